@@ -1,0 +1,12 @@
+# Finds the header-only fast_float (Debian: libfast-float-dev) and defines FastFloat::fast_float.
+find_package(FastFloat CONFIG QUIET)
+if(NOT TARGET FastFloat::fast_float)
+  find_path(FASTFLOAT_INCLUDE_DIR fast_float/fast_float.h)
+  include(FindPackageHandleStandardArgs)
+  find_package_handle_standard_args(FastFloat REQUIRED_VARS FASTFLOAT_INCLUDE_DIR)
+  if(FastFloat_FOUND)
+    add_library(FastFloat::fast_float INTERFACE IMPORTED)
+    set_target_properties(FastFloat::fast_float PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${FASTFLOAT_INCLUDE_DIR}")
+  endif()
+  mark_as_advanced(FASTFLOAT_INCLUDE_DIR)
+endif()

@@ -1,0 +1,36 @@
+#pragma once
+// vehs — the numerical conventions every part of the library relies on, in one place.
+//
+// Model (dimensionless, as in the seed paper, Eq. 7):
+//     dX = Y dt
+//     dY = b2(X, Y, t) dt + sqrt(a22(X, Y)) dB(t)            (Itô)
+// with
+//     b2  = Σ_k c_k φ_k(x, y, u)  + forces of named effects    ("drift")
+//     a22 = Σ_m q_m ψ_m(x, y)                                   ("diffusion")
+// For the paper's harvester b2 = −βy − Σ k_i x^i and a22 = 2D + 2Q x², so
+//     β = −drift["y"],  k_i = −drift["x^i"],  2D = diffusion["1"],  2Q = diffusion["x^2"].
+//
+// * Itô convention throughout. With noise only on Y and an amplitude depending on X only,
+//   Itô and Stratonovich coincide (the Milstein correction vanishes). Velocity-dependent noise
+//   (a22 depending on y) is Itô as written; no drift correction is added.
+// * a22 is the *variance rate* of dY (units of Y²/time), not a standard deviation; the
+//   Fokker–Planck equation therefore carries ½·∂²_y(a22 p).
+// * Time is dimensionless; dt in configs is the *recorded* sampling interval. Internal
+//   integration steps are dt / substeps.
+// * Random numbers: counter-based (Philox-4x32-10), keyed by (seed, record) with the step index
+//   as counter, so an ensemble is bit-identical whatever the thread count.
+// * Finite-difference grids are cell-centred: n cells over [min, max], centre of cell i at
+//   min + (i + ½)·h, h = (max − min)/n. Densities integrate to 1 with the midpoint rule.
+// * Term names follow contracts.md §2: "1", "x", "x^3", "y", "x^2*y", "y^3", "sign(y)",
+//   "y*|y|", "u". sign(0) = 0.
+//
+// Tolerances that are part of the contract:
+namespace vehs::conventions {
+/// Relative jitter of the sampling interval allowed within one record (contracts.md §1).
+inline constexpr double sampling_jitter_tolerance = 1e-6;
+/// Probability mass allowed on the boundary cells of a user-given FPK domain.
+inline constexpr double fpk_boundary_mass_tolerance = 1e-6;
+/// Condition number (of the column-equilibrated Gram matrix) above which a dictionary is
+/// reported as ill-conditioned instead of being fitted.
+inline constexpr double max_gram_condition = 1e12;
+}  // namespace vehs::conventions

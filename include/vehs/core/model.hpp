@@ -1,0 +1,117 @@
+#pragma once
+// The model of contracts.md §2: dX = Y dt, dY = b2 dt + sqrt(a22) dB, plus named effects.
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "vehs/core/enum_names.hpp"
+#include "vehs/core/terms.hpp"
+
+namespace vehs {
+
+/// The effect catalogue of contracts.md §4.
+enum class EffectId {
+  AsymmetricStiffness,        ///< even powers of x in the restoring force (term-like)
+  CoulombFriction,            ///< −μ·sign(y) (term-like)
+  QuadraticDamping,           ///< −c·y|y| (term-like)
+  NonlinearDamping,           ///< −c_x2y·x²y − c_y3·y³ (term-like)
+  ImpactStop,                 ///< extra stiffness k_stop beyond |x| > gap
+  HarmonicForcing,            ///< + amplitude·cos(omega·t + phase)
+  ElectromechanicalCoupling,  ///< hidden v: dv = (y − λ v) dt, force −coupling·v
+  ColoredNoise,               ///< Ornstein–Uhlenbeck excitation η with correlation time τ
+  VelocityDependentNoise,     ///< + q_y2·y² in a22 (term-like)
+};
+
+inline constexpr EnumNames<EffectId, 9> kEffectNames{{
+    {EffectId::AsymmetricStiffness, "asymmetric_stiffness"},
+    {EffectId::CoulombFriction, "coulomb_friction"},
+    {EffectId::QuadraticDamping, "quadratic_damping"},
+    {EffectId::NonlinearDamping, "nonlinear_damping"},
+    {EffectId::ImpactStop, "impact_stop"},
+    {EffectId::HarmonicForcing, "harmonic_forcing"},
+    {EffectId::ElectromechanicalCoupling, "electromechanical_coupling"},
+    {EffectId::ColoredNoise, "colored_noise"},
+    {EffectId::VelocityDependentNoise, "velocity_dependent_noise"},
+}};
+
+struct EffectParamSpec {
+  std::string_view name;
+  std::string_view meaning;
+  double lower_bound;  ///< parameter must be >= this (−inf when free)
+  bool strictly_positive;
+  std::optional<double> default_value;  ///< absent: required
+};
+
+struct EffectSpec {
+  EffectId id;
+  std::string_view name;
+  std::string_view physics;  ///< one line: the force or noise it adds
+  /// Term-like effects are plain dictionary terms; in a model file they live in drift /
+  /// diffusion and are expanded from an `effects` entry on reading.
+  bool term_like;
+  std::vector<EffectParamSpec> params;
+};
+
+/// The catalogue, in the order of kEffectNames.
+const std::vector<EffectSpec>& effect_catalogue();
+const EffectSpec& effect_spec(EffectId id);
+
+struct Effect {
+  EffectId id{};
+  std::map<std::string, double> params;
+  std::map<std::string, double> stderr_;  ///< standard errors of fitted params (may be empty)
+
+  std::string name() const { return enum_to_string(kEffectNames, id); }
+  double param(const std::string& key) const;  ///< throws if missing
+};
+
+/// Drift / diffusion terms that a term-like effect stands for, with signs applied
+/// (e.g. coulomb_friction{mu} -> {sign(y): −mu}). Empty for dynamic effects.
+struct EffectTerms {
+  TermList drift;
+  TermList diffusion;
+};
+EffectTerms effect_terms(const Effect& effect);
+
+struct Model {
+  TermList drift;      ///< b2 = Σ coef·term
+  TermList diffusion;  ///< a22 = Σ coef·term
+  std::vector<Effect> effects;  ///< dynamic effects only (term-like ones are expanded)
+  std::map<std::string, double> drift_stderr;      ///< by term name
+  std::map<std::string, double> diffusion_stderr;  ///< by term name
+  nlohmann::ordered_json extra = nlohmann::ordered_json::object();  ///< other top-level keys
+
+  double drift_coef(std::string_view term) const;      ///< 0 when absent
+  double diffusion_coef(std::string_view term) const;  ///< 0 when absent
+  const Effect* find_effect(EffectId id) const;
+  bool has_dynamic_effects() const { return !effects.empty(); }
+  bool uses_drive() const;  ///< a `u` term is present
+
+  double b2(double x, double y, double u = 0.0) const { return evaluate(drift, x, y, u); }
+  double a22(double x, double y) const { return evaluate(diffusion, x, y, 0.0); }
+};
+
+/// Parses a model object (contracts.md §2). `where` prefixes error messages (a file name or
+/// "config.json: model"). Unknown top-level keys are kept in `extra`.
+Model model_from_json(const nlohmann::json& j, const std::string& where);
+/// Reads a model file.
+Model load_model_file(const std::string& path);
+/// A config's `model` value: an inline object or a path to a model file.
+Model model_from_config_value(const nlohmann::json& value, const std::string& where);
+/// Serialises a model; zero coefficients are omitted.
+nlohmann::ordered_json model_to_json(const Model& m);
+
+/// Structural checks shared by every tool: finite coefficients, non-negative noise at the
+/// origin, known effect params within bounds. Throws vehs::Error prefixed with `where`.
+void validate_model(const Model& m, const std::string& where);
+
+/// Parses one effect entry ({"name": ..., "params": {...}} or just "name");
+/// `require_params` false allows params to be missing (identify fits them).
+Effect effect_from_json(const nlohmann::json& j, const std::string& where, bool require_params);
+nlohmann::ordered_json effect_to_json(const Effect& e);
+
+}  // namespace vehs

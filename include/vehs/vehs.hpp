@@ -1,0 +1,8 @@
+#pragma once
+// Umbrella header of the vehs library.
+#include "vehs/conventions.hpp"
+#include "vehs/core/config.hpp"
+#include "vehs/core/error.hpp"
+#include "vehs/core/model.hpp"
+#include "vehs/core/terms.hpp"
+#include "vehs/io/measurements.hpp"

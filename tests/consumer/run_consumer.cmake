@@ -1,0 +1,22 @@
+# Installs the already-built vehs into <build>/_consumer/prefix, then builds and runs the consumer.
+set(work "${VEHS_BINARY_DIR}/_consumer")
+file(REMOVE_RECURSE "${work}")
+execute_process(COMMAND ${CMAKE_COMMAND} --install "${VEHS_BINARY_DIR}" --prefix "${work}/prefix"
+                RESULT_VARIABLE rc OUTPUT_QUIET)
+if(rc)
+  message(FATAL_ERROR "cmake --install failed: ${rc}")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} -S "${CONSUMER_SOURCE_DIR}" -B "${work}/build" -G "${GENERATOR}"
+                -DCMAKE_PREFIX_PATH=${work}/prefix RESULT_VARIABLE rc)
+if(rc)
+  message(FATAL_ERROR "configuring the consumer failed: ${rc}")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} --build "${work}/build" RESULT_VARIABLE rc)
+if(rc)
+  message(FATAL_ERROR "building the consumer failed: ${rc}")
+endif()
+execute_process(COMMAND "${work}/build/consumer" RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+message(STATUS "consumer: ${out}")
+if(rc)
+  message(FATAL_ERROR "the consumer exited with ${rc}")
+endif()

@@ -1,0 +1,94 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "vehs/core/error.hpp"
+#include "vehs/io/measurements.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+std::string temp(const std::string& name, const std::string& text = "") {
+  const auto p = fs::temp_directory_path() / name;
+  if (!text.empty()) std::ofstream(p) << text;
+  return p.string();
+}
+
+vehs::Dataset two_records() {
+  vehs::Dataset d;
+  for (long long id : {3, 7}) {
+    vehs::Record r;
+    r.id = id;
+    r.t0 = 1.0;
+    r.dt = 0.001;
+    r.offset = d.x.size();
+    r.size = 1000;
+    for (std::size_t i = 0; i < r.size; ++i) {
+      d.x.push_back(std::sin(0.01 * static_cast<double>(i) + static_cast<double>(id)) / 3.0);
+      d.y.push_back(std::cos(0.1 * static_cast<double>(i)));
+    }
+    d.records.push_back(r);
+  }
+  return d;
+}
+}  // namespace
+
+TEST_CASE("CSV and .npy measurement files round-trip exactly", "[io]") {
+  const auto d = two_records();
+  for (const char* ext : {".csv", ".npy"}) {
+    CAPTURE(ext);
+    const auto p = temp(std::string("vehs_rt") + ext);
+    vehs::write_measurements(p, d, {});
+    vehs::ReadOptions o;
+    o.read_y = true;
+    const auto back = vehs::read_measurements(p, o);
+    REQUIRE(back.records.size() == 2);
+    CHECK(back.records[1].id == 7);
+    CHECK(back.records[1].size == 1000);
+    CHECK(back.records[0].dt == Approx(0.001).epsilon(1e-12));
+    CHECK(back.records[0].t0 == 1.0);
+    CHECK(back.x == d.x);
+    CHECK(back.y == d.y);
+  }
+}
+
+TEST_CASE("CSV quirks: quoted headers, trailing commas, free column order, no time column", "[io]") {
+  const auto p = temp("vehs_quirks.csv", "\"V1\",\"V2\",\n0.5,1.5,\n0.25,-2e-3,\n0.125,3,\n");
+  vehs::ReadOptions o;
+  o.x_column = "V2";
+  o.u_column = "V1";
+  o.dt = 0.5;
+  const auto d = vehs::read_measurements(p, o);
+  REQUIRE(d.records.size() == 1);
+  CHECK(d.x == std::vector<double>{1.5, -2e-3, 3});
+  CHECK(d.u == std::vector<double>{0.5, 0.25, 0.125});
+  CHECK(d.records[0].dt == 0.5);
+  const auto q = temp("vehs_order.csv", "x,t\n1,0\n2,0.1\n3,0.2\n");
+  CHECK(vehs::read_measurements(q).records[0].dt == Approx(0.1));
+}
+
+TEST_CASE("bad measurement files give one-line errors naming file, record and line", "[io]") {
+  auto err = [](const std::string& name, const std::string& text) {
+    const auto p = temp(name, text);
+    try {
+      vehs::read_measurements(p);
+    } catch (const vehs::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  CHECK_THAT(err("b1.csv", "t,x\n0,1\n0.1,2\n0.2001,3\n0.3,4\n"),
+             Catch::Contains("b1.csv: line 4") && Catch::Contains("non-uniform"));
+  CHECK_THAT(err("b2.csv", "traj,t,x\n1,0,1\n1,0.1,nan\n"),
+             Catch::Contains("b2.csv: line 3 (record traj=1)") && Catch::Contains("NaN"));
+  CHECK_THAT(err("b3.csv", "t,x\n0,1\n0.1,abc\n"), Catch::Contains("line 3") && Catch::Contains("not a number"));
+  CHECK_THAT(err("b4.csv", "t,y\n0,1\n"), Catch::Contains("no column 'x'"));
+  CHECK_THAT(err("b5.csv", "traj,t,x\n1,0,1\n1,0.1,1\n2,0,1\n2,0.1,1\n1,0.2,1\n1,0.3,1\n"),
+             Catch::Contains("appears again"));
+  CHECK_THAT(err("b6.csv", "t,x\n0,1\n"), Catch::Contains("only 1 samples"));
+  CHECK_THAT(err("b7.csv", "t,x\n0,1\n0,2\n"), Catch::Contains("does not increase"));
+  CHECK_THAT(err("b8.csv", ""), Catch::Contains("cannot open") || Catch::Contains("empty"));
+  CHECK_THAT(err("b9.csv", "t,x\n0,1\n0.1\n"), Catch::Contains("line 3: has 1 fields"));
+}

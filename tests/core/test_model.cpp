@@ -1,0 +1,61 @@
+#include <catch2/catch.hpp>
+
+#include "vehs/core/error.hpp"
+#include "vehs/core/model.hpp"
+
+using nlohmann::json;
+
+TEST_CASE("model JSON round-trips and exposes the paper's parameters", "[model]") {
+  const auto j = json::parse(R"({
+    "drift": {"x": -1.0, "x^3": 7.7, "x^5": -16.3, "x^7": 12.5, "x^9": -3.1, "y": -0.1},
+    "diffusion": {"1": 0.02, "x^2": 0.01},
+    "stderr": {"drift": {"x": 0.004}, "diffusion": {"1": 0.0001}},
+    "provenance": {"tool": "test"}
+  })");
+  const auto m = vehs::model_from_json(j, "m.json");
+  CHECK(-m.drift_coef("y") == 0.1);
+  CHECK(-m.drift_coef("x^9") == Approx(3.1));
+  CHECK(m.diffusion_coef("x^2") == 0.01);
+  CHECK(m.drift_stderr.at("x") == 0.004);
+  CHECK(m.b2(1.0, 0.5) == Approx(-1 + 7.7 - 16.3 + 12.5 - 3.1 - 0.05));
+  CHECK(m.a22(2.0, 0.0) == Approx(0.06));
+  const auto back = vehs::model_from_json(json::parse(vehs::model_to_json(m).dump()), "again");
+  CHECK(back.drift.size() == 6);
+  CHECK(back.extra.at("provenance").at("tool") == "test");
+  CHECK(back.diffusion_stderr.at("1") == 0.0001);
+}
+
+TEST_CASE("term-like effects expand into terms, dynamic ones are kept", "[model]") {
+  const auto m = vehs::model_from_json(json::parse(R"({
+    "drift": {"x": -1.0, "y": -0.1}, "diffusion": {"1": 0.02},
+    "effects": [{"name": "coulomb_friction", "params": {"mu": 0.03}},
+                {"name": "impact_stop", "params": {"k_stop": 50, "gap": 1.2}},
+                {"name": "velocity_dependent_noise", "params": {"q_y2": 0.005}}]
+  })"), "m.json");
+  CHECK(m.drift_coef("sign(y)") == -0.03);
+  CHECK(m.diffusion_coef("y^2") == 0.005);
+  REQUIRE(m.effects.size() == 1);
+  CHECK(m.effects[0].name() == "impact_stop");
+  CHECK(m.effects[0].param("gap_neg") == 1.2);
+}
+
+TEST_CASE("bad models are rejected with a message naming the problem", "[model]") {
+  auto bad = [](const char* text) {
+    return vehs::model_from_json(json::parse(text), "bad.json");
+  };
+  CHECK_THROWS_WITH(bad(R"({"drift": {"x": -1}})"), Catch::Contains("no 'diffusion'"));
+  CHECK_THROWS_WITH(bad(R"({"drift": {"q": -1}, "diffusion": {}})"), Catch::Contains("unknown term 'q'"));
+  CHECK_THROWS_WITH(bad(R"({"drift": {"x": "a"}, "diffusion": {}})"), Catch::Contains("must be a number"));
+  CHECK_THROWS_WITH(bad(R"({"drift": {}, "diffusion": {}, "effects": [{"name": "magic"}]})"),
+                    Catch::Contains("must be one of"));
+  CHECK_THROWS_WITH(bad(R"({"drift": {}, "diffusion": {}, "effects": [{"name": "coulomb_friction"}]})"),
+                    Catch::Contains("needs parameter 'mu'"));
+  CHECK_THROWS_WITH(bad(R"J({"drift": {"sign(y)": -0.1}, "diffusion": {},
+                            "effects": [{"name": "coulomb_friction", "params": {"mu": 0.1}}]})J"),
+                    Catch::Contains("both as a term and through an effect"));
+  CHECK_THROWS_WITH(bad(R"({"drift": {}, "diffusion": {},
+                            "effects": [{"name": "impact_stop", "params": {"k_stop": -1, "gap": 1}}]})"),
+                    Catch::Contains("must be > 0"));
+  const auto m = bad(R"({"drift": {"x": -1}, "diffusion": {"1": -0.1}})");
+  CHECK_THROWS_WITH(vehs::validate_model(m, "bad.json"), Catch::Contains("negative"));
+}
