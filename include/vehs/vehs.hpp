@@ -6,3 +6,6 @@
 #include "vehs/core/model.hpp"
 #include "vehs/core/terms.hpp"
 #include "vehs/io/measurements.hpp"
+#include "vehs/core/statistics.hpp"
+#include "vehs/core/table.hpp"
+#include "vehs/sim/simulate.hpp"
