@@ -9,3 +9,4 @@
 #include "vehs/core/statistics.hpp"
 #include "vehs/core/table.hpp"
 #include "vehs/sim/simulate.hpp"
+#include "vehs/core/parameters.hpp"

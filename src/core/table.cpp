@@ -18,11 +18,22 @@ void Table::add_row(std::vector<double> row) {
   rows.push_back(std::move(row));
 }
 
+void Table::add_row(std::string label, std::vector<double> row) {
+  require(!label_column.empty(), "table has no label column");
+  require(labels.size() == rows.size(), "table mixes labelled and unlabelled rows");
+  add_row(std::move(row));
+  labels.push_back(std::move(label));
+}
+
 std::string Table::to_csv(int precision) const {
   std::ostringstream os;
+  const bool labelled = !label_column.empty();
+  if (labelled) os << label_column << (columns.empty() ? "" : ",");
   for (std::size_t i = 0; i < columns.size(); ++i) os << (i ? "," : "") << columns[i];
   os << "\n" << std::setprecision(precision);
-  for (const auto& r : rows) {
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto& r = rows[k];
+    if (labelled) os << labels[k] << (r.empty() ? "" : ",");
     for (std::size_t i = 0; i < r.size(); ++i) os << (i ? "," : "") << r[i];
     os << "\n";
   }

@@ -1,0 +1,115 @@
+// vehs-compare: prints learned vs true (and paper-reported) parameters with standard errors,
+// and the stationary response from fpk-stationary next to Monte Carlo.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "vehs/core/app.hpp"
+#include "vehs/core/error.hpp"
+#include "vehs/core/parameters.hpp"
+#include "vehs/core/table.hpp"
+
+namespace {
+
+vehs::ConfigSchema schema() {
+  return {"vehs-compare",
+          "Prints a table of true / reference / learned model parameters (beta, k_i, 2D, 2Q, ...) "
+          "with the learned model's standard errors, and the stationary response E[X^2], E[Y^2] "
+          "from fpk-stationary next to a Monte Carlo estimate.",
+          {{"learned", "path", "model file written by identify-vehs", ""},
+           {"truth", "path", "model file of the true parameters (deviation columns use it)", "", true},
+           {"reported", "path", "model file of the values a paper reports", "", true},
+           {"reported_label", "string", "column title for `reported`", "\"paper\""},
+           {"fpk", "path", "statistics JSON written by fpk-stationary", "", true},
+           {"monte_carlo", "path", "statistics JSON of simulate-vehs (with stderr)", "", true},
+           {"output", "path", "also write the parameter table as CSV here", "", true}},
+          "Example: vehs-compare data/paper/compare.json"};
+}
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw vehs::Error(path + ": cannot open");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw vehs::Error(path + ": not valid JSON");
+  }
+}
+
+double stat(const nlohmann::json& j, const std::string& key, const std::string& file) {
+  if (!j.contains(key) || !j[key].is_number()) throw vehs::Error(file + ": no number '" + key + "'");
+  return j[key].get<double>();
+}
+
+int run(vehs::Config& c, const vehs::AppOptions&) {
+  const auto learned = vehs::load_model_file(c.string("learned"));
+  std::optional<vehs::Model> truth, reported;
+  if (c.has("truth")) truth = vehs::load_model_file(c.string("truth"));
+  if (c.has("reported")) reported = vehs::load_model_file(c.string("reported"));
+  const std::string rlabel = c.string_or("reported_label", "paper");
+
+  // union of parameter names, in the learned model's order, then the others
+  std::vector<std::string> names;
+  std::set<std::string> seen;
+  auto collect = [&](const vehs::Model& m) {
+    for (const auto& p : vehs::physical_parameters(m))
+      if (seen.insert(p.name).second) names.push_back(p.name);
+  };
+  if (truth) collect(*truth);
+  collect(learned);
+  if (reported) collect(*reported);
+  std::map<std::string, vehs::PhysicalParameter> lp;
+  for (const auto& p : vehs::physical_parameters(learned)) lp[p.name] = p;
+
+  std::printf("%-16s %11s %11s %24s %10s %9s\n", "parameter", truth ? "true" : "", reported ? rlabel.c_str() : "",
+              "learned +- stderr", truth ? "dev/se" : "", truth ? "rel.err" : "");
+  vehs::Table table({"true", "reported", "learned", "stderr"}, "parameter");
+  for (const auto& n : names) {
+    const double tv = truth ? vehs::get_parameter(*truth, n) : NAN;
+    const double rv = reported ? vehs::get_parameter(*reported, n) : NAN;
+    const bool has = lp.count(n) > 0;
+    const double lv = has ? lp[n].value : 0.0;
+    const double se = has && lp[n].stderr_ ? *lp[n].stderr_ : NAN;
+    char learned_text[64];
+    if (has && se > 0)
+      std::snprintf(learned_text, sizeof learned_text, "%.6g +- %.2g", lv, se);
+    else if (has)
+      std::snprintf(learned_text, sizeof learned_text, "%.6g", lv);
+    else
+      std::snprintf(learned_text, sizeof learned_text, "(not selected)");
+    char dev[32] = "", rel[32] = "";
+    if (truth && has && se > 0) std::snprintf(dev, sizeof dev, "%+.2f", (lv - tv) / se);
+    if (truth && tv != 0.0) std::snprintf(rel, sizeof rel, "%+.2f%%", 100.0 * (lv - tv) / std::abs(tv));
+    char tvs[32] = "", rvs[32] = "";
+    if (truth) std::snprintf(tvs, sizeof tvs, "%.6g", tv);
+    if (reported) std::snprintf(rvs, sizeof rvs, "%.6g", rv);
+    std::printf("%-16s %11s %11s %24s %10s %9s\n", n.c_str(), tvs, rvs, learned_text, dev, rel);
+    table.add_row(n, {tv, rv, has ? lv : NAN, se});
+  }
+  if (c.has("fpk") || c.has("monte_carlo")) {
+    std::printf("\nStationary response of the learned model (mean power E(P) is proportional to E[Y^2]):\n");
+    nlohmann::json fpk, mc;
+    if (c.has("fpk")) fpk = read_json(c.string("fpk"));
+    if (c.has("monte_carlo")) mc = read_json(c.string("monte_carlo"));
+    for (const char* key : {"E[X^2]", "E[Y^2]", "E[XY]"}) {
+      std::printf("  %-7s", key);
+      if (c.has("fpk")) std::printf("  FPK %.6f", stat(fpk, key, c.string("fpk")));
+      if (c.has("monte_carlo")) {
+        const double v = stat(mc, key, c.string("monte_carlo"));
+        const double se = mc.contains("stderr") ? stat(mc["stderr"], key, c.string("monte_carlo")) : NAN;
+        std::printf("   Monte Carlo %.6f +- %.6f", v, se);
+        if (c.has("fpk") && se > 0)
+          std::printf("   (difference %+.2f se)", (stat(fpk, key, c.string("fpk")) - v) / se);
+      }
+      std::printf("\n");
+    }
+  }
+  if (c.has("output")) table.write_csv(c.string("output"));
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return vehs::run_app(argc, argv, schema(), run); }
