@@ -70,6 +70,7 @@ std::string render_figure(const std::string& dir, const std::string& name, const
   }
   const std::string cmd = "cd '" + dir + "' && gnuplot '" + name + ".gp' 2>'" + name + ".log'";
   if (std::system(cmd.c_str()) != 0) {
+    fs::remove(fs::path(dir) / out, ec);  // gnuplot leaves a partial figure behind
     std::fprintf(stderr, "warning: gnuplot failed on %s/%s.gp (see %s.log)\n", dir.c_str(),
                  name.c_str(), name.c_str());
     return "";
