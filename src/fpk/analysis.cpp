@@ -1,0 +1,280 @@
+// Moments, marginals, identities and wells of a stationary density; the automatic domain and
+// the boundary-mass check.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "vehs/conventions.hpp"
+#include "vehs/core/error.hpp"
+#include "vehs/fpk/stationary.hpp"
+
+namespace vehs::fpk {
+
+namespace {
+std::string num(double v) {
+  std::ostringstream os;
+  os.precision(4);
+  os << v;
+  return os.str();
+}
+}  // namespace
+
+std::vector<Well> find_wells(const FpkModel& model, double lo, double hi) {
+  const int n = 4000;
+  const double h = (hi - lo) / n;
+  auto f = [&](double x) { return model.restoring_force(x); };
+  auto refine = [&](double a, double b) {
+    double fa = f(a);
+    for (int it = 0; it < 60; ++it) {
+      const double m = 0.5 * (a + b);
+      const double fm = f(m);
+      if ((fm > 0) == (fa > 0)) {
+        a = m;
+        fa = fm;
+      } else {
+        b = m;
+      }
+    }
+    return 0.5 * (a + b);
+  };
+  std::vector<double> minima, maxima;
+  double prev = f(lo);
+  for (int k = 1; k <= n; ++k) {
+    const double x = lo + k * h;
+    const double cur = f(x);
+    if (prev < 0.0 && cur >= 0.0 && !(cur == 0.0 && k == n)) minima.push_back(refine(x - h, x));
+    if (prev > 0.0 && cur <= 0.0 && !(cur == 0.0 && k == n)) maxima.push_back(refine(x - h, x));
+    if (cur != 0.0) prev = cur;
+  }
+  std::vector<Well> wells;
+  if (minima.empty()) {
+    Well w;
+    w.x_min = model.potential(lo) <= model.potential(hi) ? lo : hi;
+    w.potential = model.potential(w.x_min);
+    w.lo = lo;
+    w.hi = hi;
+    wells.push_back(w);
+    return wells;
+  }
+  for (double xm : minima) {
+    Well w;
+    w.x_min = xm;
+    w.potential = model.potential(xm);
+    w.lo = lo;
+    w.hi = hi;
+    for (double mx : maxima) {
+      if (mx < xm) w.lo = std::max(w.lo, mx);
+      if (mx > xm) w.hi = std::min(w.hi, mx);
+    }
+    wells.push_back(w);
+  }
+  return wells;
+}
+
+void analyse_density(const FpkModel& model, StationaryResult& r) {
+  const Grid& g = r.grid;
+  const int nx = g.x.n, ny = g.y.n;
+  const double hx = g.x.h(), hy = g.y.h(), area = g.cell_area();
+  r.marginal_x.assign(static_cast<std::size_t>(nx), 0.0);
+  r.marginal_y.assign(static_cast<std::size_t>(ny), 0.0);
+  Moments m;
+  double bx = 0.0, by = 0.0, ring = 0.0;
+  for (int i = 0; i < nx; ++i) {
+    const double x = g.x.center(i);
+    for (int j = 0; j < ny; ++j) {
+      const double y = g.y.center(j);
+      const double w = r.density[g.index(i, j)] * area;
+      r.marginal_x[static_cast<std::size_t>(i)] += w / hx;
+      r.marginal_y[static_cast<std::size_t>(j)] += w / hy;
+      const double b = model.b2(x, y);
+      m.mass += w;
+      m.ex += w * x;
+      m.ey += w * y;
+      m.exx += w * x * x;
+      m.eyy += w * y * y;
+      m.exy += w * x * y;
+      m.x_b2 += w * x * b;
+      m.y_b2 += w * y * b;
+      m.a22 += w * model.a22(x, y);
+      const bool edge_x = i == 0 || i == nx - 1, edge_y = j == 0 || j == ny - 1;
+      if (edge_x) bx += w;
+      if (edge_y) by += w;
+      if (edge_x || edge_y) ring += w;
+    }
+  }
+  r.moments = m;
+  r.boundary_mass = ring;
+  r.boundary_mass_x = bx;
+  r.boundary_mass_y = by;
+  Identities& id = r.identities;
+  const double sxy = std::sqrt(std::max(m.exx * m.eyy, 0.0));
+  id.xy = sxy > 0 ? m.exy / sxy : 0.0;
+  id.virial = m.eyy > 0 ? (m.eyy + m.x_b2) / m.eyy : 0.0;
+  id.energy = m.a22 > 0 ? (m.y_b2 + 0.5 * m.a22) / (0.5 * m.a22) : 0.0;
+  // wells: mass of the x-marginal between neighbouring maxima (cells split proportionally)
+  r.wells = find_wells(model, g.x.min, g.x.max);
+  for (auto& w : r.wells) {
+    w.mass = 0.0;
+    for (int i = 0; i < nx; ++i) {
+      const double a = g.x.face(i), b = g.x.face(i + 1);
+      const double overlap = std::max(0.0, std::min(b, w.hi) - std::max(a, w.lo));
+      w.mass += r.marginal_x[static_cast<std::size_t>(i)] * overlap;
+    }
+  }
+}
+
+// ---- automatic domain -------------------------------------------------------------------------
+
+namespace {
+
+/// Cauchy bound of the real roots of the x-only restoring force (polynomial part, and the same
+/// with each stop's linear force added), so that beyond it U' keeps its sign.
+double root_bound(const Model& m) {
+  std::vector<double> a(1, 0.0);
+  for (const auto& tc : m.drift)
+    if (tc.term.kind == TermKind::Monomial && tc.term.py == 0) {
+      if (static_cast<int>(a.size()) <= tc.term.px) a.resize(static_cast<std::size_t>(tc.term.px) + 1, 0.0);
+      a[static_cast<std::size_t>(tc.term.px)] += -tc.coef;
+    }
+  auto cauchy = [](std::vector<double> c) {
+    while (c.size() > 1 && c.back() == 0.0) c.pop_back();
+    if (c.size() <= 1) return 0.0;
+    double mx = 0.0;
+    for (std::size_t i = 0; i + 1 < c.size(); ++i) mx = std::max(mx, std::abs(c[i] / c.back()));
+    return 1.0 + mx;
+  };
+  double bound = cauchy(a);
+  if (const Effect* e = m.find_effect(EffectId::ImpactStop)) {
+    const double k = e->param("k_stop");
+    for (double gap : {e->param("gap"), e->params.count("gap_neg") ? e->param("gap_neg") : e->param("gap")}) {
+      auto b = a;
+      if (b.size() < 2) b.resize(2, 0.0);
+      b[1] += k;
+      b[0] -= k * gap;
+      bound = std::max({bound, cauchy(b), gap});
+      b[0] += 2 * k * gap;
+      bound = std::max(bound, cauchy(b));
+    }
+  }
+  return bound;
+}
+
+}  // namespace
+
+Grid automatic_domain(const FpkModel& model, int nx, int ny, const DomainOptions& o) {
+  const double K = o.log_density_drop;
+  require(K > 0.0, "log_density_drop must be > 0");
+  const double bound = root_bound(model.model());
+  auto integrand = [&](double x) {
+    const double t = model.temperature(x);
+    return model.restoring_force(x) / std::max(t, 1e-300);
+  };
+  // Φ on geometric grids from 0 outwards on each side.
+  const double s0 = 1e-9, ratio = 1.02, s_limit = 1e6;
+  auto scan = [&](double dir) {
+    std::vector<std::pair<double, double>> pts;  // (x, Φ)
+    double x_prev = 0.0, f_prev = integrand(0.0), phi = 0.0, phi_min = 0.0;
+    pts.emplace_back(0.0, 0.0);
+    for (double s = s0;; s *= ratio) {
+      require(s < s_limit, model.where() +
+                               ": no stationary density found within |x| < 1e6: the log-density "
+                               "grows too slowly (the noise grows as fast as the potential; e.g. "
+                               "for a linear oscillator E[X^2] = D/(beta*k1 - Q) needs Q < beta*k1)");
+      const double x = dir * s;
+      const double f = integrand(x);
+      phi += 0.5 * (f + f_prev) * (x - x_prev);
+      require(std::isfinite(phi), model.where() + ": the local log-density is not finite at x = " +
+                                      num(x) + " (check the diffusion near this point)");
+      x_prev = x;
+      f_prev = f;
+      phi_min = std::min(phi_min, phi);
+      pts.emplace_back(x, phi);
+      if (s > bound && phi - phi_min > K + 5.0 && dir * model.restoring_force(x) > 0.0) break;
+    }
+    return pts;
+  };
+  auto right = scan(1.0), left = scan(-1.0);
+  std::vector<std::pair<double, double>> all(left.rbegin(), left.rend());
+  all.insert(all.end(), right.begin() + 1, right.end());
+  double phi_min = std::numeric_limits<double>::infinity();
+  for (const auto& pt : all) phi_min = std::min(phi_min, pt.second);
+  std::size_t first = all.size(), last = 0;
+  for (std::size_t k = 0; k < all.size(); ++k)
+    if (all[k].second - phi_min <= K) {
+      first = std::min(first, k);
+      last = std::max(last, k);
+    }
+  Grid g;
+  g.x.min = all[first > 0 ? first - 1 : 0].first;
+  g.x.max = all[std::min(last + 1, all.size() - 1)].first;
+  g.x.n = nx;
+  // y: largest velocity range that local equilibrium predicts above e^−K of the peak.
+  const int m = 2000;
+  const double h = (g.x.max - g.x.min) / m;
+  std::vector<double> phi(m + 1, 0.0), temp(m + 1, 0.0);
+  double f_prev = 0.0;
+  for (int k = 0; k <= m; ++k) {
+    const double x = g.x.min + k * h;
+    temp[static_cast<std::size_t>(k)] = model.temperature(x);
+    const double f = model.restoring_force(x) / std::max(temp[static_cast<std::size_t>(k)], 1e-300);
+    if (k > 0) phi[static_cast<std::size_t>(k)] = phi[static_cast<std::size_t>(k) - 1] + 0.5 * (f + f_prev) * h;
+    f_prev = f;
+  }
+  const double pm = *std::min_element(phi.begin(), phi.end());
+  double y2 = 0.0;
+  for (int k = 0; k <= m; ++k)
+    y2 = std::max(y2, 2.0 * temp[static_cast<std::size_t>(k)] *
+                          std::max(0.0, K - (phi[static_cast<std::size_t>(k)] - pm)));
+  require(y2 > 0.0 && std::isfinite(y2),
+          model.where() + ": cannot size the velocity range (no noise where the density sits?)");
+  g.y.min = -std::sqrt(y2);
+  g.y.max = std::sqrt(y2);
+  g.y.n = ny;
+  return g;
+}
+
+StationaryResult solve_with_domain(const FpkModel& model, const GridRequest& request,
+                                   const SolveOptions& options, double tol, const DomainOptions& domain) {
+  Grid grid = request.grid;
+  if (request.auto_x || request.auto_y) {
+    const Grid a = automatic_domain(model, grid.x.n, grid.y.n, domain);
+    if (request.auto_x) grid.x = a.x;
+    if (request.auto_y) grid.y = a.y;
+  }
+  const int max_enlargements = 6;
+  for (int attempt = 0;; ++attempt) {
+    StationaryResult res = solve_stationary(model, grid, options);
+    res.auto_domain = request.auto_x || request.auto_y;
+    res.domain_enlargements = attempt;
+    if (res.boundary_mass <= tol) return res;
+    const bool bad_x = res.boundary_mass_x > 0.5 * tol || !(res.boundary_mass_y > 0.5 * tol);
+    const bool bad_y = res.boundary_mass_y > 0.5 * tol || !(res.boundary_mass_x > 0.5 * tol);
+    for (int ax = 0; ax < 2; ++ax) {
+      const bool bad = ax == 0 ? bad_x : bad_y;
+      const bool automatic = ax == 0 ? request.auto_x : request.auto_y;
+      if (bad && !automatic) {
+        const Axis& a = ax == 0 ? grid.x : grid.y;
+        throw Error(std::string("grid.") + (ax == 0 ? "x" : "y") + ": " +
+                    num(ax == 0 ? res.boundary_mass_x : res.boundary_mass_y) +
+                    " of the probability mass lies in the boundary cells of [" + num(a.min) + ", " +
+                    num(a.max) + "] (allowed: " + num(tol) +
+                    "); enlarge the domain, omit the axis for an automatic range, or raise "
+                    "boundary_mass_tolerance");
+      }
+    }
+    if (attempt >= max_enlargements)
+      throw Error(model.where() + ": " + num(res.boundary_mass) +
+                  " of the mass stays on the boundary after " + std::to_string(max_enlargements) +
+                  " enlargements of the automatic domain (heavy tails?)");
+    for (Axis* a : {&grid.x, &grid.y}) {
+      if ((a == &grid.x && !(bad_x && request.auto_x)) || (a == &grid.y && !(bad_y && request.auto_y)))
+        continue;
+      const double c = 0.5 * (a->min + a->max), half = 0.5 * (a->max - a->min) * 1.3;
+      a->min = c - half;
+      a->max = c + half;
+    }
+  }
+}
+
+}  // namespace vehs::fpk
