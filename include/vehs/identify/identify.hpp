@@ -1,0 +1,143 @@
+#pragma once
+// Identification of dX = Y dt, dY = b2(X, Y, u) dt + sqrt(a22(X, Y)) dB from displacement
+// records (contracts.md §1) sampled at a uniform interval Δt.
+//
+// Estimators (Options::estimator):
+//  * paper    — the seed paper's method: forward differences y_i = (x_{i+1} − x_i)/Δt,
+//               b_i = (y_{i+1} − y_i)/Δt regressed on φ(x_i, y_i); raw Kramers–Moyal diffusion
+//               a22 ≈ (y_{i+1} − y_i)²/Δt fitted by ordinary least squares. For comparison only:
+//               the raw diffusion carries Δt·b2² (2Q about half its true value even on the
+//               paper's own data), and on continuous-time records β comes out ≈ 1/3 low.
+//  * forward  — forward kinematics as above, diffusion from the drift residuals
+//               a22 ≈ Δt·(b − F̂)², by weighted least squares. Consistent (bias O(Δt)) for
+//               records produced by an explicit one-step scheme at the recorded step (the
+//               paper's synthetic data), where the noise of b_i is independent of (x_i, y_i).
+//  * uli      — underdamped Langevin inference (Brückner, Ronceray & Broedersz, PRL 124,
+//               060603, 2020) for a sensor sampling a continuous process: on a stride of k
+//               samples (h = kΔt), v̂ = (x_{i+k} − x_{i−k})/2h, â = (x_{i+k} − 2x_i + x_{i−k})/h².
+//               Given the past, â's noise has covariance a22/2 with v̂ (Stein's lemma), so
+//               ⟨â φ(x, v̂)⟩ = ⟨b2 φ⟩ + ½⟨a22 ∂_vφ⟩ + O(h): the drift solves the corrected
+//               normal equations G c = Σ φ â − ½ Σ ∂_vφ a22. Without this Itô correction the
+//               damping comes out ≈ 0 (stationarity makes Σ â v̂ ≈ 0). Diffusion:
+//               a22 = (3/2)·h·E[(â − F)² | x], by weighted least squares. Consecutive residuals
+//               (lag k) are correlated +1/4; standard errors account for it.
+//  * noisy    — ULI tolerating white sensor noise of standard deviation s on x. The stride k is
+//               chosen so that the noise part 6s²/h⁴ of â's variance is at most comparable to
+//               the process part (2/3)a22/h; s² is estimated from the lag-2k autocovariance
+//               of the residuals (which only noise feeds: s² = h⁴·E[r_i r_{i+2k}]); the drift
+//               Gram matrix is corrected for the errors-in-variables variance s²/2h² of v̂ and the
+//               −2s²/h² covariance of â with x_i; the diffusion uses the noise-free combination
+//               a22 = (12/11)·h·E[r_i² + 1.5 r_i r_{i+k} | x]. Limits: white, homoscedastic
+//               noise; the O(h) bias of ULI grows with the stride (so the noise level must
+//               stay well below the displacement change over ~0.1 periods); x-noise in the
+//               Gram matrix (relative s²·(∂_xφ)²/φ²) is neglected.
+//  * auto     — (default) measures the sampling from ULI residuals of a pilot fit on a
+//               subsample: ρ_k (lag-k autocorrelation) ≈ 0 for data from an explicit scheme at
+//               the recorded step, ≈ +1/4 for a sensor sampling a continuous process; and
+//               ρ_2k ≈ η/6 where η is the share of white sensor noise in â's variance. Picks
+//               noisy when η > 0.05, else uli when ρ_1 + (2/3)η > (1 − η)/8, else forward; the
+//               choice and the figures are reported in the model file.
+//
+// Sparse regression (Options::sparsity): SSR removing at each step the term with the smallest
+// t-ratio (or |coef|, as in the paper), the step chosen by BIC with the measured long-run
+// variance factor (default; see Criterion for why) or by blocked cross-validation over
+// contiguous time (one-standard-error rule); or STLSQ. Drift and diffusion are selected
+// separately; terms of requested effects are never removed. CV contrasts, BIC and coefficients
+// of every step are reported.
+//
+// Diffusion fit: weighted least squares of the diffusion target z on ψ with weights
+// 1/a22(x, v)² (Var z ∝ a22² for Gaussian increments), a22 taken from a pilot fit on a
+// subsample and floored at 5 % of its mean; the weights affect efficiency only, not consistency.
+//
+// Statistics are streamed: one pass per stage over the records (in parallel, deterministic
+// reduction order), accumulating Gram matrices per fold; memory does not grow with the data.
+// Passes: pilot (subsample) → drift → residuals/diffusion → scores (standard errors).
+//
+// Standard errors: sandwich estimator of the joint estimating equations of drift and diffusion
+// coefficients, J⁻¹ Ω J⁻ᵀ, with Ω the covariance of score sums over contiguous blocks of
+// `se_block` samples (batch means: robust to the MA residuals, heteroscedasticity and the
+// dependence of the drift's Itô correction on the diffusion estimate). The uncertainty of the
+// estimated sensor-noise variance (noisy) is not propagated.
+//
+// Units: time in the units of the records' t column; coefficients of b2 = Σ c·φ and
+// a22 = Σ q·ψ as in contracts.md §2 (a22 is a variance rate, 2D in the paper's notation).
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "vehs/core/enum_names.hpp"
+#include "vehs/core/model.hpp"
+#include "vehs/identify/regression.hpp"
+#include "vehs/io/measurements.hpp"
+
+namespace vehs::identify {
+
+enum class Estimator { Auto, Paper, Forward, Uli, Noisy };
+inline constexpr EnumNames<Estimator, 5> kEstimatorNames{{{Estimator::Auto, "auto"},
+                                                         {Estimator::Paper, "paper"},
+                                                         {Estimator::Forward, "forward"},
+                                                         {Estimator::Uli, "uli"},
+                                                         {Estimator::Noisy, "noisy"}}};
+
+struct Options {
+  std::vector<Term> drift_library = paper_drift_library(11, 3);
+  std::vector<Term> diffusion_library = paper_diffusion_library(4);
+  /// Term-like effects (contracts.md §4) whose terms are added and kept through selection.
+  /// Dynamic effects are rejected (not supported yet).
+  std::vector<Effect> effects;
+  /// Further terms never removed by the sparse regression.
+  std::vector<Term> keep_drift, keep_diffusion;
+
+  Estimator estimator = Estimator::Auto;
+  int stride = 0;  ///< ULI stride k (0: 1 for uli, chosen from the noise level for noisy)
+
+  Sparsity sparsity = Sparsity::Ssr;
+  SsrRule ssr_rule = SsrRule::TRatio;  ///< the paper estimator defaults to AbsCoef (see below)
+  bool ssr_rule_set = false;           ///< false: paper → abs_coef, others → t_ratio
+  Criterion criterion = Criterion::Bic;
+  int folds = 10;                      ///< contiguous time blocks of every record
+  double stlsq_threshold = 0.05;       ///< |coef| threshold of STLSQ (coefficient units)
+
+  std::size_t se_block = 0;        ///< batch length of the standard errors (0: automatic)
+  std::size_t pilot_samples = 250000;  ///< rows of the pilot fits (sampling diagnosis, weights)
+  double noise_share_target = 0.95;  ///< noisy: share of sensor noise in â's variance aimed at by the stride
+  bool progress = false;
+
+  /// Empty when valid, else a one-line reason.
+  std::string invalid_reason() const;
+};
+
+/// What the data say about how they were sampled (reported as "sampling" in the model file).
+struct SamplingDiagnosis {
+  double dt = 0.0;
+  int stride = 1;          ///< stride at which the figures below were measured
+  double rho_k = 0.0;      ///< lag-k autocorrelation of pilot ULI residuals
+  double rho_2k = 0.0;     ///< lag-2k autocorrelation
+  double noise_share = 0.0;  ///< η = 6 ρ_2k, clamped to [0, 1]
+  double sensor_noise_sd = 0.0;  ///< s estimated when noise is present (0 otherwise)
+  std::string verdict;     ///< "scheme-consistent", "continuous-time", "noisy"
+};
+
+struct Result {
+  Model model;                 ///< coefficients, stderr and the extras below in model.extra
+  Estimator estimator_used = Estimator::Forward;
+  int stride = 1;
+  SamplingDiagnosis sampling;
+  SelectionResult drift_selection, diffusion_selection;
+  double drift_condition = 0.0, diffusion_condition = 0.0;  ///< full libraries
+  double seconds = 0.0;
+  std::size_t rows = 0;        ///< regression rows used
+};
+
+/// Identifies the model from `data` (all records must share one sampling interval).
+/// Throws vehs::Error for invalid options, unusable records (too short, constant, NaN) naming
+/// the record, or an ill-conditioned dictionary naming the collinear terms.
+Result identify(const Dataset& data, const Options& options);
+
+/// Physical parameters of term-like effects from fitted coefficients (e.g. mu = −coef of
+/// sign(y)), with standard errors; written as "effect_params" in the model file.
+nlohmann::ordered_json effect_parameters(const Model& model, const std::vector<Effect>& effects);
+
+}  // namespace vehs::identify
