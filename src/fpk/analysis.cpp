@@ -11,6 +11,9 @@
 
 namespace vehs::fpk {
 
+/// Negative density mass beyond which a solution is rejected as unresolved.
+constexpr double kMaxUndershoot = 1e-3;
+
 namespace {
 std::string num(double v) {
   std::ostringstream os;
@@ -247,33 +250,42 @@ StationaryResult solve_with_domain(const FpkModel& model, const GridRequest& req
     StationaryResult res = solve_stationary(model, grid, options);
     res.auto_domain = request.auto_x || request.auto_y;
     res.domain_enlargements = attempt;
-    if (res.boundary_mass <= tol) return res;
-    const bool bad_x = res.boundary_mass_x > 0.5 * tol || !(res.boundary_mass_y > 0.5 * tol);
-    const bool bad_y = res.boundary_mass_y > 0.5 * tol || !(res.boundary_mass_x > 0.5 * tol);
+    if (std::abs(res.boundary_mass) <= tol) {
+      if (res.summary.negative_mass < -kMaxUndershoot)
+        throw Error(model.where() + ": the solution undershoots (negative density of total mass " +
+                    num(res.summary.negative_mass) + " on " + std::to_string(grid.x.n) + "x" +
+                    std::to_string(grid.y.n) +
+                    " cells): the grid does not resolve the density; use more cells");
+      return res;
+    }
+    const double mx = std::abs(res.boundary_mass_x), my = std::abs(res.boundary_mass_y);
+    const bool bad_x = mx > 0.5 * tol || !(my > 0.5 * tol);
+    const bool bad_y = my > 0.5 * tol || !(mx > 0.5 * tol);
+    std::string user_axes;
     for (int ax = 0; ax < 2; ++ax) {
       const bool bad = ax == 0 ? bad_x : bad_y;
       const bool automatic = ax == 0 ? request.auto_x : request.auto_y;
       if (bad && !automatic) {
         const Axis& a = ax == 0 ? grid.x : grid.y;
-        throw Error(std::string("grid.") + (ax == 0 ? "x" : "y") + ": " +
-                    num(ax == 0 ? res.boundary_mass_x : res.boundary_mass_y) +
-                    " of the probability mass lies in the boundary cells of [" + num(a.min) + ", " +
-                    num(a.max) + "] (allowed: " + num(tol) +
-                    "); enlarge the domain, omit the axis for an automatic range, or raise "
-                    "boundary_mass_tolerance");
+        user_axes += std::string(user_axes.empty() ? "" : "; ") + "grid." + (ax == 0 ? "x" : "y") +
+                     " [" + num(a.min) + ", " + num(a.max) + "]: " + num(ax == 0 ? mx : my);
       }
     }
+    if (!user_axes.empty())
+      throw Error("too much probability mass in the boundary cells of the given domain (" + user_axes +
+                  "; allowed in total: " + num(tol) +
+                  "); enlarge the domain, omit the axis for an automatic range, or raise "
+                  "boundary_mass_tolerance");
     if (attempt >= max_enlargements)
       throw Error(model.where() + ": " + num(res.boundary_mass) +
                   " of the mass stays on the boundary after " + std::to_string(max_enlargements) +
                   " enlargements of the automatic domain (heavy tails?)");
-    for (Axis* a : {&grid.x, &grid.y}) {
-      if ((a == &grid.x && !(bad_x && request.auto_x)) || (a == &grid.y && !(bad_y && request.auto_y)))
-        continue;
-      const double c = 0.5 * (a->min + a->max), half = 0.5 * (a->max - a->min) * 1.3;
-      a->min = c - half;
-      a->max = c + half;
-    }
+    // widen the automatic axes by asking for a larger density drop at their edges
+    DomainOptions wider = domain;
+    wider.log_density_drop = domain.log_density_drop + 8.0 * (attempt + 1);
+    const Grid a = automatic_domain(model, grid.x.n, grid.y.n, wider);
+    if (request.auto_x && bad_x) grid.x = a.x;
+    if (request.auto_y && bad_y) grid.y = a.y;
   }
 }
 

@@ -42,6 +42,7 @@ std::string SolveOptions::invalid_reason() const {
 struct DirectSolverCache::Impl {
   void* symbolic = nullptr;
   void* numeric = nullptr;
+  bool owns_symbolic = true;  ///< false: shared read-only from another cache
   double control[UMFPACK_CONTROL];
   double info[UMFPACK_INFO];
   int n = -1;
@@ -67,8 +68,9 @@ struct DirectSolverCache::Impl {
   }
   void release() {
     release_numeric();
-    if (symbolic) umfpack_di_free_symbolic(&symbolic);
+    if (symbolic && owns_symbolic) umfpack_di_free_symbolic(&symbolic);
     symbolic = nullptr;
+    owns_symbolic = true;
   }
   bool matches(const SparseMatrix& A) const {
     return symbolic && A.rows() == n && static_cast<std::size_t>(A.nonZeros()) == nnz;
@@ -114,6 +116,15 @@ struct DirectSolverCache::Impl {
 
 DirectSolverCache::DirectSolverCache() : impl_(new Impl) {}
 DirectSolverCache::~DirectSolverCache() { delete impl_; }
+void DirectSolverCache::share_analysis(const DirectSolverCache& other) {
+  impl_->release();
+  impl_->set_ordering(other.impl_->ordering);
+  impl_->symbolic = other.impl_->symbolic;  // UMFPACK only reads it in umfpack_di_numeric
+  impl_->owns_symbolic = false;
+  impl_->n = other.impl_->n;
+  impl_->nnz = other.impl_->nnz;
+}
+
 void DirectSolverCache::analyze(const SparseMatrix& pattern_matrix, Ordering ordering) {
   impl_->set_ordering(ordering);
   impl_->analyze(pattern_matrix);

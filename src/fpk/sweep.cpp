@@ -65,14 +65,19 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
   }
   if (auto why = grid.invalid_reason(); !why.empty()) throw Error(why);
   out.grid = grid;
-  // The matrix every thread analyses (same values for all threads → thread-count independence).
-  std::optional<SparseMatrix> pattern;
+  // One symbolic analysis, done here and shared read-only by every thread's cache, so that
+  // the factorisations (and results) do not depend on the thread count.
+  DirectSolverCache shared;
+  std::string cache_error;
+  bool have_analysis = false;
   if (options.solver == Solver::Direct)
-    for (std::size_t k = 0; k < count && !pattern; ++k) {
+    for (std::size_t k = 0; k < count && !have_analysis; ++k) {
       if (!out.points[k].error.empty()) continue;
       try {
-        pattern = assemble_operator(FpkModel(*models[k]), grid, options.scheme);
-      } catch (const Error&) {
+        shared.analyze(assemble_operator(FpkModel(*models[k]), grid, options.scheme), options.ordering);
+        have_analysis = true;
+      } catch (const Error& e) {
+        cache_error = e.what();
       }
     }
   Progress prog("fpk sweep", static_cast<long long>(count), progress);
@@ -84,32 +89,28 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
     threads_used = omp_get_num_threads();
 #endif
     DirectSolverCache cache;
-    std::string cache_error;
-    if (pattern) {
-      try {
-        cache.analyze(*pattern, options.ordering);
-      } catch (const Error& e) {
-        cache_error = e.what();
-      }
-    }
+    if (have_analysis) cache.share_analysis(shared);
 #pragma omp for schedule(dynamic, 1)
     for (long long kk = 0; kk < static_cast<long long>(count); ++kk) {
       const auto k = static_cast<std::size_t>(kk);
       SweepPoint& pt = out.points[k];
       if (pt.error.empty()) {
         try {
-          if (!cache_error.empty()) throw Error(cache_error);
+          if (options.solver == Solver::Direct && !have_analysis) throw Error(cache_error);
           const FpkModel fm(*models[k], "sweep point " + std::to_string(k));
           const StationaryResult r =
-              solve_stationary(fm, grid, options, pattern ? &cache : nullptr);
+              solve_stationary(fm, grid, options, have_analysis ? &cache : nullptr);
           pt.moments = r.moments;
           pt.identities = r.identities;
           pt.boundary_mass = r.boundary_mass;
           pt.residual = r.summary.residual;
           pt.wells = r.wells;
-          if (r.boundary_mass > tol)
+          if (std::abs(r.boundary_mass) > tol)
             pt.error = "boundary mass " + std::to_string(r.boundary_mass) + " exceeds " +
                        std::to_string(tol) + " (enlarge the grid)";
+          else if (r.summary.negative_mass < -1e-3)
+            pt.error = "negative density of total mass " + std::to_string(r.summary.negative_mass) +
+                       ": the grid does not resolve the density (use more cells)";
         } catch (const Error& e) {
           pt.error = e.what();
         } catch (const std::exception& e) {

@@ -240,9 +240,10 @@ struct GridRequest {
 };
 
 /// The front end used by the executable: automatic axes are computed, then the solve is
-/// checked against the boundary-mass tolerance. On an automatic axis holding too much mass at
-/// its edges the axis is widened by 1.3× (up to 6 times); on a user-given axis it is an error
-/// naming the mass and the tolerance.
+/// checked against the boundary-mass tolerance (an automatic axis holding too much mass is
+/// recomputed with 8 more e-folds of density drop, up to 6 times; a given axis is an error) and
+/// for undershoots (a negative total of more than 1e-3 means the grid does not resolve the
+/// density: an error; smaller undershoots are reported in SolveSummary::negative_mass).
 StationaryResult solve_with_domain(const FpkModel& model, const GridRequest& request,
                                    const SolveOptions& options, double boundary_mass_tolerance,
                                    const DomainOptions& domain = {});
@@ -255,7 +256,8 @@ void analyse_density(const FpkModel& model, StationaryResult& result);
 std::vector<Well> find_wells(const FpkModel& model, double lo, double hi);
 
 /// Keeps one UMFPACK symbolic analysis (done on the first matrix it sees) for repeated
-/// factorisations of matrices with the same pattern. One per thread.
+/// factorisations of matrices with the same pattern. One per thread (numeric factors are
+/// per cache; a symbolic analysis may be shared, see share_analysis).
 class DirectSolverCache {
  public:
   DirectSolverCache();
@@ -264,6 +266,10 @@ class DirectSolverCache {
   DirectSolverCache& operator=(const DirectSolverCache&) = delete;
   /// Analyses `pattern_matrix` now (so that every thread starts from the same analysis).
   void analyze(const SparseMatrix& pattern_matrix, Ordering ordering);
+  /// Uses `other`'s analysis read-only (it must outlive this cache). Sharing one analysis makes
+  /// sweeps independent of the thread count even with METIS, whose orderings may differ
+  /// between concurrent calls.
+  void share_analysis(const DirectSolverCache& other);
   struct Impl;
   Impl* impl() { return impl_; }
 
