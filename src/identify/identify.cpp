@@ -93,6 +93,72 @@ struct Kinematics {
 
 enum class Target { RawKM, Forward, Uli, Noisy };
 
+/// The leading discretisation error of the central second difference over a smooth path:
+/// (x(t+h) − 2x(t) + x(t−h))/h² = ẍ + (h²/12)·x⁗ + O(h⁴), with, for ẍ = F(x, v),
+///   x⁗ = F_xx v² + 2 F_xv v F + F_vv F² + F_x F + F_v F_x v + F_v² F
+/// (the deterministic part; exact in expectation for drifts linear in v). F is a pilot drift
+/// fit; polynomial terms and y|y| enter, sign(y) and u are left out.
+class FourthDerivative {
+ public:
+  FourthDerivative() = default;
+  FourthDerivative(const std::vector<Term>& terms, const VectorXd& c, double h) : factor_(h * h / 12.0) {
+    int px = 0, py = 0;
+    for (const auto& t : terms)
+      if (t.kind == TermKind::Monomial) px = std::max(px, t.px), py = std::max(py, t.py);
+    F_.assign(static_cast<std::size_t>(py + 1), std::vector<double>(static_cast<std::size_t>(px + 1), 0.0));
+    for (std::size_t k = 0; k < terms.size(); ++k) {
+      const Term& t = terms[k];
+      if (t.kind == TermKind::Monomial)
+        F_[static_cast<std::size_t>(t.py)][static_cast<std::size_t>(t.px)] += c[static_cast<Index>(k)];
+      else if (t.kind == TermKind::YAbsY)
+        yabsy_ += c[static_cast<Index>(k)];
+    }
+    Fx_ = dx(F_);
+    Fxx_ = dx(Fx_);
+    Fv_ = dv(F_);
+    Fxv_ = dx(Fv_);
+    Fvv_ = dv(Fv_);
+  }
+  /// (h²/12)·x⁗ at (x, v).
+  double operator()(double x, double v) const {
+    const double sv = static_cast<double>((v > 0) - (v < 0));
+    const double F = eval(F_, x, v) + yabsy_ * v * std::abs(v);
+    const double Fx = eval(Fx_, x, v), Fxx = eval(Fxx_, x, v), Fxv = eval(Fxv_, x, v);
+    const double Fv = eval(Fv_, x, v) + 2.0 * yabsy_ * std::abs(v);
+    const double Fvv = eval(Fvv_, x, v) + 2.0 * yabsy_ * sv;
+    return factor_ * (Fxx * v * v + 2.0 * Fxv * v * F + Fvv * F * F + Fx * F + Fv * Fx * v + Fv * Fv * F);
+  }
+
+ private:
+  using Poly = std::vector<std::vector<double>>;  // a[py][px]
+  static Poly dx(const Poly& a) {
+    Poly d = a;
+    for (auto& row : d) {
+      for (std::size_t p = 0; p + 1 < row.size(); ++p) row[p] = row[p + 1] * static_cast<double>(p + 1);
+      if (!row.empty()) row.back() = 0.0;
+    }
+    return d;
+  }
+  static Poly dv(const Poly& a) {
+    Poly d(a.size(), std::vector<double>(a.empty() ? 0 : a[0].size(), 0.0));
+    for (std::size_t q = 0; q + 1 < a.size(); ++q)
+      for (std::size_t p = 0; p < a[q + 1].size(); ++p) d[q][p] = a[q + 1][p] * static_cast<double>(q + 1);
+    return d;
+  }
+  static double eval(const Poly& a, double x, double v) {
+    double s = 0.0;
+    for (std::size_t q = a.size(); q-- > 0;) {
+      double px = 0.0;
+      for (std::size_t p = a[q].size(); p-- > 0;) px = px * x + a[q][p];
+      s = s * v + px;
+    }
+    return s;
+  }
+  Poly F_, Fx_, Fxx_, Fv_, Fxv_, Fvv_;
+  double yabsy_ = 0.0;
+  double factor_ = 0.0;
+};
+
 // ------------------------------------------------------------------------ work items
 
 struct Span {
@@ -160,6 +226,14 @@ struct Context {
   const Dictionary& phi;  // drift library
   const Dictionary& psi;  // diffusion library
   Kinematics kin;
+  const FourthDerivative* jerk = nullptr;  // O(h²) correction of the target (central kinematics)
+
+  /// Rows [j0, j0 + m) of a record, the acceleration target corrected by −(h²/12)·x⁗.
+  void load(const double* x, const double* u, std::size_t j0, int m, RowBlock& b) const {
+    kin.load(x, u, j0, m, b);
+    if (jerk)
+      for (int c = 0; c < m; ++c) b.a[c] -= (*jerk)(b.x[c], b.v[c]);
+  }
 };
 
 // ----------------------------------------------------------------------- pass 1: drift
@@ -205,7 +279,7 @@ void drift_pass_span(const Context& cx, bool ito, bool noise, const Span& sp, Dr
   std::vector<double> scratch(std::max(cx.phi.scratch_size(), cx.psi.scratch_size()));
   for (std::size_t j0 = sp.begin; j0 < sp.end; j0 += kBlockRows) {
     const int m = static_cast<int>(std::min<std::size_t>(kBlockRows, sp.end - j0));
-    cx.kin.load(x, u, j0, m, b);
+    cx.load(x, u, j0, m, b);
     cx.phi.values(b, Phi.data(), kB, scratch.data());
     for (int c = 0; c < m; ++c) Phi(c, K) = b.a[c];
     double lo = acc.xmin, hi = acc.xmax, v2 = 0.0;
@@ -306,7 +380,7 @@ void span_residuals(const Context& cx, const DriftModel& dm, const Record& rec, 
   std::vector<double> scratch(dm.phiS.scratch_size());
   for (std::size_t j = 0; j < count; j += kBlockRows) {
     const int m = static_cast<int>(std::min<std::size_t>(kBlockRows, count - j));
-    cx.kin.load(x, u, first + j, m, b);
+    cx.load(x, u, first + j, m, b);
     if (raw) std::copy(b.a, b.a + m, raw->data() + j);
     if (pS == 0) {
       std::copy(b.a, b.a + m, r.data() + j);
@@ -464,6 +538,7 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
   const int Kv = static_cast<int>(vt.size());
   const bool ito = ds.scores && ds.ito && Kv > 0;
   const bool noise = ds.scores && ds.noise;
+  const bool uli_factor = ds.target == Target::Uli;
   const double inv2h2 = 1.0 / (2.0 * cx.kin.h * cx.kin.h), two_h2 = 2.0 / (cx.kin.h * cx.kin.h);
   VectorXd cv(std::max(Kv, 1));
   for (int i = 0; i < Kv; ++i) cv[i] = ds.dm.cS[vt[static_cast<std::size_t>(i)]];
@@ -505,10 +580,16 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
   };
   for (std::size_t j0 = 0; j0 < len; j0 += kBlockRows) {
     const int m = static_cast<int>(std::min<std::size_t>(kBlockRows, len - j0));
-    cx.kin.load(x, u, sp.begin + j0, m, b);
+    cx.load(x, u, sp.begin + j0, m, b);
     acc.mom.v2 += Eigen::Map<const VectorXd>(b.v, m).squaredNorm();
     cx.psi.values(b, Psi.data(), kB, scratch.data());
     if (ds.w.weighted) a22.head(m).noalias() = Psi.topLeftCorner(m, P) * ds.w.q;
+    const bool need_dv = Kv > 0 && (ito || noise || uli_factor);
+    if (pS > 0 && (ds.scores || need_dv)) phiS.values(b, Phi.data(), kB, scratch.data());
+    if (need_dv) {
+      phiS.d_dv(b, Dv.data(), kB, scratch.data());
+      dvc.head(m).noalias() = Dv.topLeftCorner(m, Kv) * cv.head(Kv);  // ∂_v F
+    }
     for (int c = 0; c < m; ++c) {
       const std::size_t j = j0 + static_cast<std::size_t>(c);
       rr[c] = r[j];
@@ -516,6 +597,8 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
       if (!diffusion_target(ds.target, cx.kin, r, raw, j, avail, z)) {
         w = 0.0;
       } else {
+        // ULI: the residual's noise covaries with F(x, v̂) (Stein): E[r²] = a22 (2/(3h) − ∂_vF)
+        if (uli_factor && Kv > 0) z /= std::max(0.5, 1.0 - 1.5 * cx.kin.h * dvc[c]);
         acc.n += 1.0;
         acc.zsum += z;
         if (ds.w.weighted) w = 1.0 / std::max(a22[c], ds.w.floor);
@@ -530,16 +613,13 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
     if (ds.scores) {
       bG += Gsub;
       if (pS > 0) {
-        phiS.values(b, Phi.data(), kB, scratch.data());
         kernels::add_AtB(Phi.data(), kB, rr.data(), kB, m, pS, 1, bd.data(), pS, false);
-        if (ito || (noise && Kv > 0)) phiS.d_dv(b, Dv.data(), kB, scratch.data());
         if (ito) add_AtB(Dv, Psi, m, Kv, P, bW);
         if (noise) {
           // per unit s²: (1/2h²)[∂_vφ (∂_vφᵀc) + ½(φ ∂²_vφᵀc + ∂²_vφ φᵀc)] + (2/h²) ∂_xφ
           if (Kv > 0) {
             phiS.d2_dv2(b, D2.data(), kB, scratch.data());
             F.head(m).noalias() = Phi.topLeftCorner(m, pS) * ds.dm.cS;
-            dvc.head(m).noalias() = Dv.topLeftCorner(m, Kv) * cv.head(Kv);
             d2c.head(m).noalias() = D2.topLeftCorner(m, Kv) * cv.head(Kv);
             be.head(pS).noalias() += 0.5 * inv2h2 * (Phi.topLeftCorner(m, pS).transpose() * d2c.head(m));
             for (int jv = 0; jv < Kv; ++jv)
@@ -622,7 +702,7 @@ void long_run_span(const Context& cx, const DiffusionSetup& ds, const VectorXd& 
   std::vector<double> scratch(cx.psi.scratch_size());
   for (std::size_t j0 = 0; j0 < avail; j0 += kBlockRows) {
     const int m = static_cast<int>(std::min<std::size_t>(kBlockRows, avail - j0));
-    cx.kin.load(x, u, sp.begin + j0, m, b);
+    cx.load(x, u, sp.begin + j0, m, b);
     cx.psi.values(b, Psi.data(), kB, scratch.data());
     a22.head(m).noalias() = Psi.topLeftCorner(m, P) * q;
     for (int c = 0; c < m; ++c) {
@@ -776,6 +856,7 @@ struct Pilot {
   double noise_share = 0;
   double v_sd = 0;
   VectorXd q;          // diffusion coefficients (full ψ library, OLS)
+  VectorXd c;          // Itô-corrected full-library drift (after finish_pilot)
   double mean_z = 0;   // mean diffusion target
   double drift_lr = 1, diffusion_lr = 1;  // long-run variance factors (after finish_pilot)
   // kept for finish_pilot
@@ -835,7 +916,8 @@ void finish_pilot(Pilot& p, const Dataset& d, const Dictionary& phi, const Dicti
   corr.ito = kin.central;
   corr.q = p.q;
   DiffusionSetup ds = p.ds;
-  ds.dm = drift_model(phi, all, expand(fit_support(drift_quadratic(p.drift, phi, corr), all), phi.size()));
+  p.c = expand(fit_support(drift_quadratic(p.drift, phi, corr), all), phi.size());
+  ds.dm = drift_model(phi, all, p.c);
   const int lr_r = kin.central ? 2 * kin.k + 1 : 2;
   const int lr_e = kin.central ? 3 * kin.k + 1 : 2;
   LongRun lr;
@@ -1017,6 +1099,9 @@ Result identify(const Dataset& data, const Options& options) {
                        : est == Estimator::Paper ? SsrRule::AbsCoef
                                                  : SsrRule::TRatio;
   Context cx{data, phi, psi, kin};
+  const FourthDerivative jerk(phi.terms(), pilot.c, kin.h);
+  const bool h2_correction = central && options.discretization_correction;
+  if (h2_correction) cx.jerk = &jerk;
   const int F = options.folds;
   const auto spans = make_spans(data, kin, F, 0);
   Progress progress("identify", 3 * static_cast<long long>(spans.size()), options.progress);
@@ -1173,6 +1258,7 @@ Result identify(const Dataset& data, const Options& options) {
       {"kinematics", central ? "central (ULI): v = (x[i+k] - x[i-k])/2h, a = (x[i+k] - 2x[i] + x[i-k])/h^2, h = k dt"
                              : "forward: y = (x[i+1] - x[i])/dt, b = (y[i+1] - y[i])/dt"},
       {"ito_correction", corr.ito},
+      {"discretization_correction", h2_correction ? "target a - (h^2/12) x from a pilot drift" : "none"},
       {"diffusion_target", target == Target::RawKM     ? "raw Kramers-Moyal (y[i+1] - y[i])^2/dt, ordinary least squares"
                            : target == Target::Forward ? "dt * drift residual^2, weighted least squares"
                            : target == Target::Uli     ? "(3/2) h * drift residual^2, weighted least squares"

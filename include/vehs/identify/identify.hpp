@@ -19,8 +19,11 @@
 //               ⟨â φ(x, v̂)⟩ = ⟨b2 φ⟩ + ½⟨a22 ∂_vφ⟩ + O(h): the drift solves the corrected
 //               normal equations G c = Σ φ â − ½ Σ ∂_vφ a22. Without this Itô correction the
 //               damping comes out ≈ 0 (stationarity makes Σ â v̂ ≈ 0). Diffusion:
-//               a22 = (3/2)·h·E[(â − F)² | x], by weighted least squares. Consecutive residuals
-//               (lag k) are correlated +1/4; standard errors account for it.
+//               a22 = (3/2)·h·E[(â − F)² | x]/(1 − (3/2)·h·∂_vF) (the last factor: â's noise
+//               also covaries with F(x, v̂)), by weighted least squares. Consecutive residuals
+//               (lag k) are correlated +1/4; standard errors account for it. The O(h²) error
+//               of the central difference, (h²/12)·x⁗, is removed from the target with x⁗
+//               from a pilot drift (deterministic part; exact for drifts linear in v).
 //  * noisy    — ULI tolerating white sensor noise of standard deviation s on x. The stride k is
 //               chosen so that the noise part 6s²/h⁴ of â's variance is at most comparable to
 //               the process part (2/3)a22/h; s² is estimated from the lag-2k autocovariance
@@ -92,6 +95,9 @@ struct Options {
 
   Estimator estimator = Estimator::Auto;
   int stride = 0;  ///< ULI stride k (0: 1 for uli, chosen from the noise level for noisy)
+  /// uli/noisy: remove the O(h²) error of the central second difference, (h²/12)·x⁗ with x⁗
+  /// from a pilot drift fit (see identify.cpp: FourthDerivative).
+  bool discretization_correction = true;
 
   Sparsity sparsity = Sparsity::Ssr;
   SsrRule ssr_rule = SsrRule::TRatio;  ///< the paper estimator defaults to AbsCoef (see below)
