@@ -46,7 +46,9 @@ ConfigSchema schema() {
       {"solver", "string", "direct: UMFPACK sparse LU with a normalisation row; sor: the paper's "
                            "relaxed Gauss-Seidel (settings in 'sor'); bicgstab: ILUT-preconditioned "
                            "BiCGSTAB (settings in 'iterative').", "\"direct\""},
-      {"ordering", "string", "Fill-reducing ordering of the direct solver: metis or amd.", "\"metis\""},
+      {"ordering", "string", "Fill-reducing ordering of the direct solver: auto (AMD for one solve, "
+                             "METIS for sweeps, where its costlier analysis is shared), metis or amd.",
+       "\"auto\""},
       {"sor", "object", "{\"alpha\": relaxation factor (paper 0.01), \"tolerance\": stop when "
                         "max|dp|/max p < tolerance (paper 1e-5), \"max_iterations\", "
                         "\"normalize_every\": sweeps between normalisations (paper 10)}.",
@@ -154,7 +156,7 @@ int main(int argc, char** argv) {
     SolveOptions opt;
     opt.scheme = enum_from_string(kSchemeNames, cfg.string_or("scheme", "flux"), cfg.where("scheme"));
     opt.solver = enum_from_string(kSolverNames, cfg.string_or("solver", "direct"), cfg.where("solver"));
-    opt.ordering = enum_from_string(kOrderingNames, cfg.string_or("ordering", "metis"), cfg.where("ordering"));
+    opt.ordering = enum_from_string(kOrderingNames, cfg.string_or("ordering", "auto"), cfg.where("ordering"));
     if (cfg.has("sor")) {
       const Config s = cfg.object("sor", {"alpha", "tolerance", "max_iterations", "normalize_every"});
       opt.sor.alpha = s.positive_or("alpha", opt.sor.alpha);

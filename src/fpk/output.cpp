@@ -185,7 +185,7 @@ std::vector<std::string> density_figures(const std::string& dir, const FpkModel&
   std::ostringstream heat;
   heat << "set title 'stationary density p(x, y) (" << r.summary.scheme << ", " << g.x.n << "x" << g.y.n
        << " cells)'\nset xlabel 'x'\nset ylabel 'y'\nset view map\nset pm3d map interpolate 0,0\n"
-          "set palette rgb 33,13,10\nset xrange [" << g.x.min << ":" << g.x.max << "]\nset yrange ["
+          "set palette rgb 33,13,10\nset cbrange [0:*]\nset xrange [" << g.x.min << ":" << g.x.max << "]\nset yrange ["
        << g.y.min << ":" << g.y.max << "]\nset key off\n"
           "splot 'density_map.csv' skip 1 using 1:2:3 with pm3d\n";
   if (auto f = render_figure(dir, "density_map", heat.str()); !f.empty()) out.push_back(f);
@@ -198,11 +198,12 @@ std::vector<std::string> density_figures(const std::string& dir, const FpkModel&
     if (w.lo > g.x.min) mx << "set arrow from " << w.lo << ", graph 0 to " << w.lo << ", graph 1 nohead dt 3 lc rgb 'gray'\n";
   double umin = 1e300;
   for (int i = 0; i < g.x.n; ++i) umin = std::min(umin, model.potential(g.x.center(i)));
-  mx << "set y2range [" << umin << ":" << umin + 1.5 * std::max(1e-12, [&] {
-    double umax_in_wells = umin;
-    for (const auto& w : r.wells) umax_in_wells = std::max({umax_in_wells, model.potential(w.lo), model.potential(w.hi)});
-    return umax_in_wells - umin;
-  }()) << "]\n";
+  // show the wells: U up to three times the highest interior barrier (the walls are clipped)
+  double barrier = umin;
+  for (const auto& w : r.wells)
+    if (w.lo > g.x.min) barrier = std::max(barrier, model.potential(w.lo));
+  const double span = barrier > umin ? 3.0 * (barrier - umin) : 1.0;
+  mx << "set y2range [" << umin - 0.05 * span << ":" << umin + span << "]\n";
   mx << "plot 'marginal_x.csv' skip 1 using 1:2 with lines lw 2 title 'p(x)', "
         "'' skip 1 using 1:3 axes x1y2 with lines dt 2 title 'U(x)'\n"
         "unset arrow\nset title 'p(y)'\nset xlabel 'y'\nset ylabel 'p(y)'\nunset y2label\nunset y2tics\n"

@@ -48,18 +48,18 @@ struct DirectSolverCache::Impl {
   int n = -1;
   std::size_t nnz = 0;
 
-  Ordering ordering = Ordering::Metis;
+  Ordering ordering = Ordering::Amd;
 
   Impl() {
     umfpack_di_defaults(control);
     // The operator is structurally symmetric: order A + Aᵀ and prefer diagonal pivots.
     control[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_SYMMETRIC;
-    set_ordering(Ordering::Metis);
+    set_ordering(Ordering::Amd);
   }
   void set_ordering(Ordering o) {
     if (o != ordering && symbolic) release();
     ordering = o;
-    control[UMFPACK_ORDERING] = o == Ordering::Metis ? UMFPACK_ORDERING_METIS : UMFPACK_ORDERING_AMD;
+    control[UMFPACK_ORDERING] = o == Ordering::Metis ? UMFPACK_ORDERING_METIS : UMFPACK_ORDERING_AMD;  // Auto → AMD
   }
   ~Impl() { release(); }
   void release_numeric() {
@@ -231,7 +231,7 @@ std::vector<double> solve_direct(const FpkModel& model, SparseMatrix& A, const G
                                  DirectSolverCache* cache, Ordering ordering, SolveSummary& sum) {
   DirectSolverCache local;
   DirectSolverCache::Impl& lu = *(cache ? cache : &local)->impl();
-  lu.set_ordering(ordering);
+  if (!cache) lu.set_ordering(ordering);  // a cache keeps the ordering it was analysed with
   const double s = mean_abs_diagonal(A);
   std::size_t r = guess_maximum(model, g);
   const std::size_t n = g.size();
