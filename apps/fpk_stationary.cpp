@@ -177,7 +177,14 @@ int main(int argc, char** argv) {
     dom.log_density_drop = cfg.positive_or("auto_domain_efolds", dom.log_density_drop);
     const GridRequest req = parse_grid(cfg);
     std::vector<SweepAxis> axes;
-    if (cfg.has("sweep")) axes = parse_sweep(cfg);  // parse before the long solve
+    if (cfg.has("sweep")) axes = parse_sweep(cfg);  // parse and check before the long solve
+    for (const auto& a : axes) {
+      try {
+        (void)get_model_parameter(model, a.name);
+      } catch (const Error& e) {
+        throw Error(cfg.where("sweep") + ": " + e.what());
+      }
+    }
 
     const StationaryResult res = solve_with_domain(fm, req, opt, tol, dom);
     nlohmann::ordered_json out = result_to_json(res);
