@@ -63,7 +63,7 @@ TEST_CASE("Q = 0: flux2 and central are second order, paper_literal does not con
   CHECK(l2 > 0.5 * l1);
 }
 
-TEST_CASE("exact multiplicative case: damping beta0 (1 + Q x^2 / D) gives p ∝ exp(-beta0 H / D)", "[fpk][exact]") {
+TEST_CASE("exact multiplicative case: damping beta0 (1 + Q x^2 / D) gives p ~ exp(-beta0 H / D)", "[fpk][exact]") {
   const double beta0 = 0.2, D = 0.01, Q = 0.006;
   const FpkModel m(fpk_fixtures::model(
       R"({"drift": {"x": 1.0, "x^3": -1.0, "y": )" + std::to_string(-beta0) + R"(, "x^2*y": )" +

@@ -64,7 +64,7 @@ TEST_CASE("models without a stationary 2-D density are rejected with a reason", 
   CHECK_THROWS_WITH(assemble_operator(friction, g, Scheme::Central), Contains("sign(y)"));
 }
 
-TEST_CASE("a user domain holding too much mass at its boundary is an error; an automatic one grows", "[fpk][domain]") {
+TEST_CASE("a user domain holding too much mass at its boundary is an error, an automatic one grows", "[fpk][domain]") {
   const FpkModel m(fpk_fixtures::paper_learned());
   GridRequest paper;  // the paper's domain [−1.6, 1.6]² is too small in y for this model
   paper.auto_x = paper.auto_y = false;
@@ -125,7 +125,7 @@ TEST_CASE("impact_stop is supported: identities converge with the stop force", "
   CHECK(energy[0] / energy[1] >= 3.0);
 }
 
-TEST_CASE("the paper's SOR stops early; BiCGSTAB matches the direct solve", "[fpk][solvers]") {
+TEST_CASE("the paper's SOR stops early, BiCGSTAB matches the direct solve", "[fpk][solvers]") {
   const FpkModel m(fpk_fixtures::model(R"({"drift": {"x": -1, "x^3": -1, "y": -0.5}, "diffusion": {"1": 0.2, "x^2": 0.05}})"));
   const Grid g = automatic_domain(m, 40, 40);
   const auto rd = solve_stationary(m, g, SolveOptions{});
