@@ -32,6 +32,7 @@ std::string IterativeOptions::invalid_reason() const {
 }
 
 std::string SolveOptions::invalid_reason() const {
+  if (correction_steps < 0 || correction_steps > 100) return "correction_steps must be in 0..100";
   if (solver == Solver::Sor) return sor.invalid_reason();
   if (solver == Solver::Bicgstab) return iterative.invalid_reason();
   return "";
@@ -228,7 +229,8 @@ void normalize(std::vector<double>& p, double area) {
 
 /// Direct solve: LU of A with equation r replaced by the normalisation row.
 std::vector<double> solve_direct(const FpkModel& model, SparseMatrix& A, const Grid& g,
-                                 DirectSolverCache* cache, Ordering ordering, SolveSummary& sum) {
+                                 DirectSolverCache* cache, Ordering ordering, SolveSummary& sum,
+                                 SparseMatrix* high = nullptr, int correction_steps = 0) {
   DirectSolverCache local;
   DirectSolverCache::Impl& lu = *(cache ? cache : &local)->impl();
   if (!cache) lu.set_ordering(ordering);  // a cache keeps the ordering it was analysed with
@@ -242,6 +244,23 @@ std::vector<double> solve_direct(const FpkModel& model, SparseMatrix& A, const G
     rhs[r] = s;
     lu.factorize(A);
     lu.solve(A, rhs.data(), p.data());
+    if (high && correction_steps > 0) {
+      // defect correction towards the high-order operator: p ← p + A⁻¹(b − H p)
+      SavedRow saved_h = set_normalization_row(*high, r, s);
+      std::vector<double> res(n), delta(n);
+      for (int step = 0; step < correction_steps; ++step) {
+        res = rhs;
+        const int* outer = high->outerIndexPtr();
+        const int* inner = high->innerIndexPtr();
+        const double* val = high->valuePtr();
+        for (std::size_t c = 0; c < n; ++c)
+          for (int q = outer[c]; q < outer[c + 1]; ++q) res[static_cast<std::size_t>(inner[q])] -= val[q] * p[c];
+        lu.solve(A, res.data(), delta.data());
+        for (std::size_t k = 0; k < n; ++k) p[k] += delta[k];
+      }
+      saved_h.restore();
+      sum.iterations = correction_steps;
+    }
     saved.restore();
     sum.normalization_row = r;
     sum.normalization_attempts = attempt;
@@ -346,7 +365,12 @@ StationaryResult solve_stationary(const FpkModel& model, const Grid& grid, const
   t0 = Clock::now();
   switch (options.solver) {
     case Solver::Direct:
-      res.density = solve_direct(model, A, grid, reuse, options.ordering, sum);
+      if (options.scheme == Scheme::Flux && options.correction_steps > 0) {
+        SparseMatrix low = assemble_operator(model, grid, Scheme::Flux2);
+        res.density = solve_direct(model, low, grid, reuse, options.ordering, sum, &A, options.correction_steps);
+      } else {
+        res.density = solve_direct(model, A, grid, reuse, options.ordering, sum);
+      }
       break;
     case Solver::Sor: res.density = solve_sor(A, grid, options.sor, sum); break;
     case Solver::Bicgstab: res.density = solve_bicgstab(model, A, grid, options.iterative, sum); break;

@@ -74,7 +74,8 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
     for (std::size_t k = 0; k < count && !have_analysis; ++k) {
       if (!out.points[k].error.empty()) continue;
       try {
-        shared.analyze(assemble_operator(FpkModel(*models[k]), grid, options.scheme),
+        const bool compact = options.scheme == Scheme::Flux && options.correction_steps > 0;
+        shared.analyze(assemble_operator(FpkModel(*models[k]), grid, compact ? Scheme::Flux2 : options.scheme),
                        options.ordering == Ordering::Auto ? Ordering::Metis : options.ordering);
         have_analysis = true;
       } catch (const Error& e) {
