@@ -1,0 +1,185 @@
+#pragma once
+// Model adequacy: how well does a model (contracts.md §2) reproduce measured displacement
+// records, and where exactly does it fail?
+//
+// Method (see hypothesis.hpp and lens.hpp for the statistics):
+//  1. The data are looked at through a lens — identify's finite-difference kinematics at the
+//     model's stride — giving whitened one-step residuals r = (â − b2)/sqrt(c·a22/h) per row.
+//  2. For every data record the model is simulated R times ("twins") with the record's duration,
+//     sampling interval, initial displacement and velocity, drive and measurement process (the
+//     sampling diagnosis: scheme-consistent data → the paper's rk4_euler at the recorded step;
+//     continuous-time data → taylor15 on a fine substep; noisy data → plus white sensor noise).
+//  3. The IDENTICAL statistics code runs on data and twins, per unit (record, or time block of
+//     a record when there are fewer than min_units records), and the units are compared in pairs:
+//       one_step           residual mean and variance in (x, v̂) bins (the failure map);
+//       residual_spectrum  band-averaged log spectrum of the residuals (memory, periodic forcing);
+//       pdf                occupation of coarse (x, v̂) cells (shape of p(x, v̂));
+//       power              log E[X²] and log E[v̂²] (v̂ the lens velocity: the mean power);
+//       wells              probability per well and well-to-well transition rate (multi-well
+//                          models; wells from the model's potential, transitions counted with
+//                          hysteresis between the wells' cores);
+//       acf                band-averaged log power spectrum of x (the Fourier pair of its ACF).
+//  4. Each component is a calibrated test with a p-value; its size is the excess normalised
+//     chi-square max(0, χ²/dof − 1). score = Σ sizes (lower is better; ≈ 0 for an adequate
+//     model; comparable between models fitted to the same data). verdict = inadequate when any
+//     component's p-value is below alpha/(number of components) (Bonferroni, family-wise alpha).
+//  5. Suspects (suspects.hpp): every catalogue effect not yet in the model is fitted on the first
+//     part of every record and scored on the held-out rest.
+//
+// Units: time in the units of the records' t column; x as recorded; v̂ in x per time unit.
+// Memory: the data, one twin replicate at a time, and O(units × bins) statistics.
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "vehs/core/enum_names.hpp"
+#include "vehs/core/model.hpp"
+#include "vehs/diagnose/hypothesis.hpp"
+#include "vehs/diagnose/lens.hpp"
+#include "vehs/diagnose/suspects.hpp"
+#include "vehs/io/measurements.hpp"
+#include "vehs/sim/simulate.hpp"
+
+namespace vehs::diagnose {
+
+enum class LensChoice { Auto, Forward, Central };
+
+/// Whether the tests of the stationary and x-spectrum components include the model's parameter
+/// uncertainty (estimated by refitting the model's terms on pseudo-data simulated from it and
+/// resimulating with common random numbers; see hypothesis.hpp). auto: on when the model file
+/// reports standard errors (it was fitted, presumably to these data).
+enum class ParameterUncertainty { Auto, On, Off };
+inline constexpr EnumNames<ParameterUncertainty, 3> kParameterUncertaintyNames{
+    {{ParameterUncertainty::Auto, "auto"}, {ParameterUncertainty::On, "on"}, {ParameterUncertainty::Off, "off"}}};
+inline constexpr EnumNames<LensChoice, 3> kLensNames{
+    {{LensChoice::Auto, "auto"}, {LensChoice::Forward, "forward"}, {LensChoice::Central, "central"}}};
+
+struct Options {
+  // ---- lens
+  LensChoice lens = LensChoice::Auto;  ///< auto: the model's estimator (model file), else the data's sampling
+  int stride = 0;                      ///< central stride (0: the model's, else 1)
+  double sensor_noise = -1.0;          ///< < 0: from the model file or the sampling diagnosis
+  // ---- twins
+  int replicates = 0;                  ///< twins per record; 0: enough for >= 2e6 twin samples (1..8)
+  bool twin_scheme_auto = true;
+  sim::Scheme twin_scheme = sim::Scheme::Rk4Euler;
+  int twin_substeps = 0;               ///< 0: 1 for scheme-consistent data, else 10
+  std::uint64_t seed = 1;
+  // ---- statistics
+  int map_bins_x = 16, map_bins_v = 16;  ///< one-step map
+  double min_bin_count = 200;            ///< rows per side for a bin to enter the one-step test
+  int min_units = 32;                    ///< fewer records: records are cut into time blocks
+  int residual_lags = 64;                ///< residual ACF lags (rows)
+  double alpha = 0.01;                   ///< family-wise level of the verdict
+  /// Sampling interval the user expects (config `dt`): an error when the records disagree.
+  double expected_dt = 0.0;
+  /// Error when the model file says it was identified at another sampling interval.
+  bool check_model_sampling = true;
+  // ---- the model's parameter uncertainty
+  ParameterUncertainty parameter_uncertainty = ParameterUncertainty::Auto;
+  int parameter_draws = 8;                 ///< refits (each: simulate, identify, resimulate)
+  double parameter_fit_samples = 2e6;      ///< samples of each refit (the covariance is rescaled)
+  // ---- model-side reference
+  bool fpk = true;                     ///< stationary FPK density of the model as a reference
+  int fpk_cells = 160;                 ///< per axis
+  // ---- suspects
+  SuspectOptions suspects;
+  bool progress = false;
+
+  std::string invalid_reason() const;
+};
+
+/// One test component of the verdict.
+struct Component {
+  std::string name;
+  std::string what;  ///< one line: what is compared
+  TestResult test;
+};
+
+/// One bin of the one-step map (x, v̂).
+struct MapBin {
+  double x = 0.0, v = 0.0;              ///< bin centre
+  double n_data = 0.0, n_twin = 0.0;    ///< rows (twin: per replicate)
+  double mean_data = 0.0, mean_twin = 0.0, z_mean = 0.0;
+  double var_data = 0.0, var_twin = 0.0, z_var = 0.0;    ///< z of log(var_data/var_twin)
+  double kurt_data = 0.0, kurt_twin = 0.0, z_kurt = 0.0;
+  bool used = false;                    ///< enough rows on both sides
+};
+
+struct OneStepMap {
+  int nx = 0, nv = 0;
+  double x_lo = 0, x_hi = 0, v_lo = 0, v_hi = 0;  ///< rows outside go to the edge bins
+  std::vector<MapBin> bins;                      ///< bins[i * nv + j], i over x
+  std::vector<int> worst;                        ///< indices of the largest |z_mean|, descending
+};
+
+/// A curve of the data and its twins with standard errors from the spread over units.
+struct Curve {
+  std::vector<double> at;  ///< abscissa (x, lag time, frequency)
+  std::vector<double> data, data_se, twin, twin_se;
+  std::vector<double> reference;  ///< e.g. the FPK marginal (empty when unavailable)
+};
+
+struct Quantity {
+  std::string name;
+  double data = 0.0, data_se = 0.0, twin = 0.0, twin_se = 0.0;
+  double z = 0.0;  ///< paired z of data − twin
+  double reference = std::numeric_limits<double>::quiet_NaN();  ///< FPK (stationary) value
+};
+
+struct WellInfo {
+  double x_min = 0.0, lo = 0.0, hi = 0.0;     ///< range (±inf at the ends)
+  double core_lo = 0.0, core_hi = 0.0;        ///< core used for transitions
+};
+
+struct SamplingInfo {
+  std::string data_verdict;     ///< identify's diagnosis of the data
+  std::string model_verdict;    ///< what the model file says (empty: nothing)
+  std::string model_estimator;  ///< estimator stated in the model file
+  double data_dt = 0.0, model_dt = 0.0;
+  double sensor_noise_sd = 0.0; ///< used by the lens and the twins
+  std::string twin_scheme;
+  int twin_substeps = 1;
+  int replicates = 1;
+};
+
+struct Result {
+  std::string verdict;  ///< "adequate" | "inadequate"
+  double score = 0.0;
+  std::vector<Component> components;
+  double threshold = 0.0;  ///< per-component p-value threshold (alpha / components)
+  Lens lens;
+  SamplingInfo sampling;
+  std::size_t records = 0, units = 0, rows = 0, samples = 0;
+  std::string unit_kind;  ///< "records" or "time blocks (n per record)"
+  int parameter_draws = 0;                ///< refits behind the parameter uncertainty (0: not used)
+  std::size_t parameter_fit_samples = 0;  ///< samples per refit
+  OneStepMap map;
+  Curve residual_acf, residual_psd, px, x_acf, x_psd;
+  /// p(x, v̂) on a grid (row-major, i over x) for data and twins.
+  int pxy_nx = 0, pxy_nv = 0;
+  double pxy_x_lo = 0, pxy_x_hi = 0, pxy_v_lo = 0, pxy_v_hi = 0;
+  std::vector<double> pxy_data, pxy_twin;
+  double hellinger_px = 0.0, hellinger_pxy = 0.0;            ///< data vs twins
+  double hellinger_px_null = -1.0, hellinger_pxy_null = -1.0;  ///< twin vs twin (R >= 2), else −1
+  std::vector<Quantity> quantities;  ///< E[X^2], E[v^2], well probabilities, transition rate
+  std::vector<WellInfo> wells;
+  std::string fpk_note;  ///< why the FPK reference is missing, or its grid
+  SuspectReport suspects;
+  std::vector<std::string> warnings;
+  nlohmann::ordered_json timings = nlohmann::ordered_json::object();
+
+  /// The contract JSON (contracts.md §4) with every detail.
+  nlohmann::ordered_json to_json() const;
+};
+
+/// Diagnoses `model` against `data`. Throws vehs::Error (one line) for invalid options, a model
+/// that cannot be evaluated (no diffusion, a22 <= 0 where the data are, a drive term without a
+/// drive column), records whose sampling interval differs from expected_dt or from the interval
+/// the model was identified at, or too little data.
+Result diagnose(const Model& model, const Dataset& data, const Options& options);
+
+}  // namespace vehs::diagnose

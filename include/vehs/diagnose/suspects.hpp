@@ -1,0 +1,90 @@
+#pragma once
+// Suspects: which catalogue effect (contracts.md §4) missing from the model would the data
+// support? Ground work of issue 7, implemented for the term-like effects.
+//
+// Procedure. Every record is split in time: the first (1 − holdout) of its samples train, the
+// rest is held out. On the training part, identify (vehs::identify::identify, the lens's
+// estimator and stride, sparsity off) fits the baseline — the model's own drift and diffusion
+// terms — and, for every candidate effect not yet in the model, the baseline plus the effect's
+// terms (identify::Options::effects). Each fit is then scored on the held-out rows:
+//  * drift effects: the identify contrast (Itô-corrected for central kinematics, with the
+//    sensor-noise corrections of the noisy estimator), whose expectation is E[(F − b2)²] up to a
+//    constant, weighted per row by 1/(2·σ²(x)), σ²(x) = c·a22_base(x, 0)/h + 6s²/h⁴ — so that the
+//    gain L_base − L_effect is a Gaussian log-likelihood gain in nats;
+//  * velocity_dependent_noise: the Gaussian log-likelihood of the baseline drift residuals with
+//    the variance c·a22(x, v̂)/h + 6s²/h⁴ of each fit (nats).
+// evidence = total held-out gain (nats; positive: the effect predicts better); z = its mean over
+// held-out blocks (records, or sub-blocks of few records) divided by the standard error from
+// the block-to-block spread. A suspect is `significant` when z > z_threshold (default 3, about a
+// 1 % family-wise level over the five term-like effects) and the gain is positive. Suspects are
+// ranked by evidence. Adding more terms can only lower the held-out fit through estimation noise,
+// so a model that lacks nothing gives gains ≈ −(extra terms)/2 nats and no significant suspect.
+//
+// Extension: suspect_table() has one entry per catalogue effect saying how it is fitted and
+// scored. Dynamic effects (impact_stop, harmonic_forcing, electromechanical_coupling,
+// colored_noise) are listed as not yet testable; once identify fits them, switching an entry's
+// method (and, for hidden states, providing the held-out scorer) enables them.
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "vehs/core/model.hpp"
+#include "vehs/diagnose/lens.hpp"
+#include "vehs/io/measurements.hpp"
+
+namespace vehs::diagnose {
+
+enum class SuspectMethod {
+  DriftTerms,      ///< term-like drift effect: identify with Options::effects, drift contrast
+  DiffusionTerms,  ///< term-like diffusion effect: identify with Options::effects, diffusion likelihood
+  NotYet,          ///< dynamic effect: identify cannot fit it yet
+};
+
+struct SuspectEntry {
+  EffectId id;
+  SuspectMethod method;
+  std::string_view note;  ///< shown for NotYet entries
+};
+
+/// One entry per catalogue effect, in catalogue order.
+const std::vector<SuspectEntry>& suspect_table();
+
+struct SuspectOptions {
+  bool enabled = true;
+  double holdout = 0.3;      ///< fraction at the end of every record held out
+  double z_threshold = 3.0;  ///< significance of the held-out gain
+  int min_blocks = 20;       ///< held-out blocks for the standard error
+  std::vector<EffectId> only;  ///< empty: every effect of the table
+  std::string invalid_reason() const;
+};
+
+struct Suspect {
+  std::string effect;
+  double evidence = 0.0;   ///< held-out log-likelihood gain, nats
+  double z = 0.0;
+  bool significant = false;           ///< claimed: held-out significant and the model inadequate
+  bool held_out_significant = false;  ///< z > z_threshold and a positive gain, whatever the verdict
+  std::string scale;       ///< "drift contrast" or "diffusion likelihood"
+  nlohmann::ordered_json params = nlohmann::ordered_json::object();
+  nlohmann::ordered_json params_stderr = nlohmann::ordered_json::object();
+  nlohmann::ordered_json add;  ///< {"effects": [{"name": ...}]}
+  std::vector<std::string> terms;  ///< terms the effect added
+};
+
+struct SuspectReport {
+  std::vector<Suspect> ranked;  ///< tested effects, by evidence (descending)
+  /// Effects not tested, with the reason (already in the model, not yet supported...).
+  std::vector<std::pair<std::string, std::string>> untested;
+  double baseline_heldout_rows = 0.0;
+  int blocks = 0;
+  std::string note;  ///< non-empty when the suspects could not be evaluated at all
+};
+
+/// Fits and scores the suspects (see the header comment). Errors of the fits (e.g. too short
+/// records) are returned in `note` rather than thrown.
+SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens& lens,
+                            const SuspectOptions& options, bool progress = false);
+
+}  // namespace vehs::diagnose

@@ -1,0 +1,977 @@
+#include "vehs/diagnose/diagnose.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <numeric>
+#include <sstream>
+
+#include "twins.hpp"
+#include "unit_stats.hpp"
+#include "vehs/conventions.hpp"
+#include "vehs/core/error.hpp"
+#include "vehs/core/progress.hpp"
+#include "vehs/core/statistics.hpp"
+#include "vehs/fpk/stationary.hpp"
+#include "vehs/identify/identify.hpp"
+
+namespace vehs::diagnose {
+
+using detail::StatsSetup;
+using detail::UnitSpan;
+using detail::UnitStats;
+
+std::string Options::invalid_reason() const {
+  if (stride < 0) return "stride must be >= 0";
+  if (lens == LensChoice::Forward && stride > 1) return "stride applies to central kinematics only";
+  if (replicates < 0 || replicates > 1000) return "replicates must be in [0, 1000]";
+  if (twin_substeps < 0) return "twin_substeps must be >= 0";
+  if (map_bins_x < 2 || map_bins_v < 2 || map_bins_x > 200 || map_bins_v > 200)
+    return "map bins must be in [2, 200] per axis";
+  if (!(min_bin_count >= 10)) return "min_bin_count must be >= 10";
+  if (min_units < 4) return "min_units must be >= 4";
+  if (residual_lags < 1) return "residual_lags must be >= 1";
+  if (!(alpha > 0.0 && alpha < 0.5)) return "alpha must be in (0, 0.5)";
+  if (fpk_cells < 20 || fpk_cells > 2000) return "fpk_cells must be in [20, 2000]";
+  if (!(expected_dt >= 0.0)) return "dt must be > 0";
+  if (parameter_draws < 2 || parameter_draws > 200) return "parameter_draws must be in [2, 200]";
+  if (!(parameter_fit_samples >= 1e4)) return "parameter_fit_samples must be >= 10000";
+  return suspects.invalid_reason();
+}
+
+namespace {
+
+std::string fmt(double v, int digits = 4) {
+  std::ostringstream os;
+  os.precision(digits);
+  os << v;
+  return os.str();
+}
+
+std::string record_name(const Record& r) {
+  return (r.source.empty() ? std::string("data") : r.source) + ": record traj=" + std::to_string(r.id);
+}
+
+double quantile(std::vector<double>& v, double q) {
+  if (v.empty()) return 0.0;
+  const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+std::size_t pow2_at_most(std::size_t n) {
+  std::size_t p = 1;
+  while (p * 2 <= n) p *= 2;
+  return p;
+}
+
+/// Value and cluster (delta-method jackknife) standard error of ΣN/ΣD over units.
+struct Ratio {
+  double value = 0.0, se = 0.0;
+};
+Ratio ratio_over_units(const std::vector<double>& N, const std::vector<double>& D) {
+  const double sn = std::accumulate(N.begin(), N.end(), 0.0), sd = std::accumulate(D.begin(), D.end(), 0.0);
+  Ratio r;
+  if (!(sd > 0.0)) return r;
+  r.value = sn / sd;
+  const double U = static_cast<double>(N.size());
+  if (U < 2) return r;
+  double ss = 0.0;
+  for (std::size_t j = 0; j < N.size(); ++j) ss += (N[j] - r.value * D[j]) * (N[j] - r.value * D[j]);
+  r.se = std::sqrt(U / (U - 1.0) * ss) / sd;
+  return r;
+}
+
+/// Mean and standard error over units of per-unit values (skipping NaN).
+Ratio mean_over_units(const std::vector<double>& v) {
+  Ratio r;
+  double s = 0.0, n = 0.0;
+  for (double x : v)
+    if (std::isfinite(x)) s += x, n += 1.0;
+  if (n == 0) return r;
+  r.value = s / n;
+  if (n < 2) return r;
+  double ss = 0.0;
+  for (double x : v)
+    if (std::isfinite(x)) ss += (x - r.value) * (x - r.value);
+  r.se = std::sqrt(ss / (n - 1.0) / n);
+  return r;
+}
+
+/// Log-spaced bands of frequency indices [1, kmax]: edges e_0 = 1 < … < e_nb = kmax + 1.
+std::vector<std::size_t> log_bands(std::size_t kmax, int nb) {
+  std::vector<std::size_t> e{1};
+  for (int b = 1; b <= nb; ++b) {
+    const auto k = static_cast<std::size_t>(
+        std::llround(std::exp(std::log(static_cast<double>(kmax + 1)) * b / nb)));
+    if (k > e.back()) e.push_back(std::min(k, kmax + 1));
+  }
+  if (e.back() != kmax + 1) e.push_back(kmax + 1);
+  return e;
+}
+
+double band_mean(const std::vector<double>& psd, std::size_t a, std::size_t b) {
+  double s = 0.0;
+  for (std::size_t k = a; k < b; ++k) s += psd[k];
+  return s / static_cast<double>(b - a);
+}
+
+/// Reads a number at extra[key1][key2] when present.
+bool extra_number(const Model& m, const char* k1, const char* k2, double& out) {
+  const auto it = m.extra.find(k1);
+  if (it == m.extra.end() || !it->is_object()) return false;
+  const auto jt = it->find(k2);
+  if (jt == it->end() || !jt->is_number()) return false;
+  out = jt->get<double>();
+  return true;
+}
+std::string extra_string(const Model& m, const char* k1, const char* k2) {
+  const auto it = m.extra.find(k1);
+  if (it == m.extra.end() || !it->is_object()) return "";
+  const auto jt = it->find(k2);
+  if (jt == it->end() || !jt->is_string()) return "";
+  return jt->get<std::string>();
+}
+
+std::vector<Term> terms_of(const TermList& l) {
+  std::vector<Term> t;
+  for (const auto& tc : l) t.push_back(tc.term);
+  return t;
+}
+
+/// Checks the records: finite values, the expected sampling interval.
+void check_records(const Dataset& data, const Model& model, double expected_dt) {
+  require(!data.records.empty(), "no records to diagnose");
+  if (model.uses_drive())
+    require(data.has_u(),
+            "the model has a drive term 'u' but the data have no drive column (name it with "
+            "'columns': {\"u\": ...})");
+  for (const auto& r : data.records) {
+    if (expected_dt > 0.0 && std::abs(r.dt - expected_dt) > 1e-6 * expected_dt)
+      throw Error(record_name(r) + " is sampled at dt = " + fmt(r.dt, 8) +
+                  " but the config says dt = " + fmt(expected_dt, 8) +
+                  " (remove 'dt' to use the files' time column, or give the right interval)");
+    const double* x = data.x_of(r);
+    const double* u = data.u_of(r);
+    for (std::size_t i = 0; i < r.size; ++i)
+      if (!std::isfinite(x[i]) || (u && !std::isfinite(u[i])))
+        throw Error(record_name(r) + ", sample " + std::to_string(i) +
+                    (r.first_line > 0 ? " (line " + std::to_string(r.first_line + i) + ")" : "") + ": " +
+                    (std::isfinite(x[i]) ? "u" : "x") + " is NaN or infinite");
+  }
+}
+
+/// identify's sampling diagnosis on the first samples of every record.
+struct Pilot {
+  bool ok = false;
+  std::string verdict, estimator, error;
+  int stride = 1;
+  double sensor_noise_sd = 0.0;
+};
+Pilot sampling_pilot(const Model& model, const Dataset& data) {
+  Pilot p;
+  Dataset sub;
+  const std::size_t cap = std::max<std::size_t>(4000, 600000 / data.records.size());
+  for (const auto& r : data.records) {
+    Record nr = r;
+    nr.size = std::min(r.size, cap);
+    nr.offset = sub.x.size();
+    sub.x.insert(sub.x.end(), data.x_of(r), data.x_of(r) + nr.size);
+    if (data.has_u()) sub.u.insert(sub.u.end(), data.u_of(r), data.u_of(r) + nr.size);
+    sub.records.push_back(nr);
+  }
+  identify::Options o;
+  o.drift_library = terms_of(model.drift);
+  o.diffusion_library = terms_of(model.diffusion);
+  o.sparsity = identify::Sparsity::None;
+  o.estimator = identify::Estimator::Auto;
+  o.progress = false;
+  try {
+    const identify::Result r = identify::identify(sub, o);
+    p.ok = true;
+    p.verdict = r.sampling.verdict;
+    p.estimator = enum_to_string(identify::kEstimatorNames, r.estimator_used);
+    p.stride = r.stride;
+    p.sensor_noise_sd = r.sampling.sensor_noise_sd;
+  } catch (const std::exception& e) {
+    p.error = e.what();
+  }
+  return p;
+}
+
+}  // namespace
+
+Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
+  const auto t_start = std::chrono::steady_clock::now();
+  auto lap = [&, t = t_start](Result& res, const char* what) mutable {
+    const auto now = std::chrono::steady_clock::now();
+    res.timings[what] = std::chrono::duration<double>(now - t).count();
+    t = now;
+  };
+  if (auto why = opt.invalid_reason(); !why.empty()) throw Error("diagnose: " + why);
+  validate_model(model, "model");
+  require(!model.diffusion.empty(),
+          "the model has no diffusion terms: its one-step residuals cannot be whitened and its "
+          "twins cannot be simulated (the model file needs a 'diffusion' object)");
+  require(!model.drift.empty(), "the model has no drift terms (the model file needs a 'drift' object)");
+  check_records(data, model, opt.expected_dt);
+  const double dt = data.common_dt();
+
+  Result res;
+  res.records = data.records.size();
+  res.samples = data.total_samples();
+  SamplingInfo& si = res.sampling;
+  si.data_dt = dt;
+  // ---- what the model file says about the data it was fitted to
+  extra_number(model, "sampling", "dt", si.model_dt);
+  si.model_verdict = extra_string(model, "sampling", "verdict");
+  si.model_estimator = extra_string(model, "estimator", "used");
+  double model_stride = 0.0, model_noise = 0.0;
+  extra_number(model, "estimator", "stride", model_stride);
+  extra_number(model, "sampling", "sensor_noise_sd", model_noise);
+  if (opt.check_model_sampling && si.model_dt > 0.0 && std::abs(si.model_dt - dt) > 1e-6 * dt)
+    throw Error("the model was identified from data sampled at dt = " + fmt(si.model_dt, 8) +
+                " (its 'sampling.dt') but these data are sampled at dt = " + fmt(dt, 8) +
+                ": coefficients fitted to a discrete scheme depend on the interval; diagnose data "
+                "sampled like the model's, or set check_model_sampling to false");
+
+  // ---- the data's own sampling diagnosis (identify's pilot, model terms as the library)
+  const Pilot pilot = sampling_pilot(model, data);
+  si.data_verdict = pilot.ok ? pilot.verdict : "";
+  if (!pilot.ok)
+    res.warnings.push_back("the sampling diagnosis of the data failed (" + pilot.error +
+                           "); assuming " + (si.model_verdict.empty() ? "continuous-time" : si.model_verdict) + " data");
+  if (pilot.ok && !si.model_verdict.empty() && si.model_verdict != pilot.verdict)
+    res.warnings.push_back("the model file says its data were '" + si.model_verdict +
+                           "' but these data look '" + pilot.verdict + "'");
+  const std::string verdict = pilot.ok ? pilot.verdict : (si.model_verdict.empty() ? "continuous-time" : si.model_verdict);
+  lap(res, "sampling_pilot");
+
+  // ---- the lens
+  Lens lens;
+  lens.dt = dt;
+  {
+    bool forward = false;
+    int stride = 1;
+    if (opt.lens == LensChoice::Forward) {
+      forward = true;
+    } else if (opt.lens == LensChoice::Central) {
+      stride = model_stride >= 1 ? static_cast<int>(model_stride) : (pilot.ok ? pilot.stride : 1);
+    } else if (!si.model_estimator.empty()) {
+      forward = si.model_estimator == "forward" || si.model_estimator == "paper";
+      stride = model_stride >= 1 ? static_cast<int>(model_stride) : 1;
+    } else if (pilot.ok) {
+      forward = pilot.estimator == "forward" || pilot.estimator == "paper";
+      stride = pilot.stride;
+    }
+    if (opt.stride > 0) stride = opt.stride;
+    lens.kinematics = forward ? Kinematics::Forward : Kinematics::Central;
+    lens.stride = forward ? 1 : std::max(stride, 1);
+    if (opt.sensor_noise >= 0.0)
+      lens.sensor_noise_sd = opt.sensor_noise;
+    else if (model_noise > 0.0)
+      lens.sensor_noise_sd = model_noise;
+    else if (pilot.ok && pilot.verdict == "noisy")
+      lens.sensor_noise_sd = pilot.sensor_noise_sd;
+  }
+  if (auto why = lens.invalid_reason(); !why.empty()) throw Error("diagnose: lens: " + why);
+  res.lens = lens;
+  si.sensor_noise_sd = lens.sensor_noise_sd;
+  const ModelLens mlens(model, lens);
+
+  // ---- units
+  const std::size_t nrec = data.records.size();
+  const std::size_t per = nrec >= static_cast<std::size_t>(opt.min_units)
+                              ? 1
+                              : (static_cast<std::size_t>(opt.min_units) + nrec - 1) / nrec;
+  std::vector<UnitSpan> units;
+  std::size_t rows_total = 0, min_unit_len = std::numeric_limits<std::size_t>::max(), min_unit_rows = min_unit_len;
+  for (std::size_t r = 0; r < nrec; ++r) {
+    const std::size_t n = data.records[r].size;
+    const std::size_t nrows = lens.rows(n);
+    rows_total += nrows;
+    std::size_t blocks = per;
+    while (blocks > 1 && n / blocks < 256) --blocks;
+    for (std::size_t b = 0; b < blocks; ++b) {
+      UnitSpan u{r, n * b / blocks, n * (b + 1) / blocks};
+      units.push_back(u);
+      min_unit_len = std::min(min_unit_len, u.end - u.begin);
+      const std::size_t ub = std::max(u.begin, lens.lead()), ue = std::min(u.end, n - std::min(n, lens.trail()));
+      min_unit_rows = std::min(min_unit_rows, ue > ub ? ue - ub : 0);
+    }
+  }
+  res.rows = rows_total;
+  res.units = units.size();
+  res.unit_kind = per == 1 ? "records" : "time blocks (" + std::to_string(per) + " per record)";
+  if (rows_total < 2000)
+    throw Error("too little data: " + std::to_string(rows_total) + " usable rows in " + std::to_string(nrec) +
+                " records (at least 2000 needed for the one-step statistics)");
+  if (min_unit_rows < 32)
+    throw Error("a record is too short: a unit of only " + std::to_string(min_unit_rows) +
+                " usable rows (records need at least 32 rows beyond the lens's stencil)");
+  const int U = static_cast<int>(units.size());
+  if (U < 8)
+    res.warnings.push_back("only " + std::to_string(U) + " units: the tests have little power and their calibration rests on few degrees of freedom");
+  if (per > 1)
+    res.warnings.push_back("fewer records than min_units: records are cut into time blocks treated as "
+                           "independent units, which assumes blocks longer than the correlation time");
+
+  // ---- setup from a subsample of the data's rows
+  StatsSetup setup;
+  setup.lens = &mlens;
+  setup.dt = dt;
+  setup.nx = opt.map_bins_x;
+  setup.nv = opt.map_bins_v;
+  std::vector<double> xs, vs;
+  {
+    const std::size_t step = std::max<std::size_t>(1, rows_total / 200000);
+    for (const auto& r : data.records) {
+      const double* x = data.x_of(r);
+      const double* u = data.u_of(r);
+      const std::size_t i1 = r.size > lens.trail() ? r.size - lens.trail() : 0;
+      for (std::size_t i = lens.lead(); i < i1; i += step) {
+        double xi, v, a;
+        lens.at(x, i, xi, v, a);
+        xs.push_back(xi);
+        vs.push_back(v);
+        if (!(mlens.residual_variance(xi, v) > 0.0))
+          throw Error("the model's diffusion a22 is not positive at x = " + fmt(xi) + ", v = " + fmt(v) +
+                      " (" + record_name(r) + ", sample " + std::to_string(i) +
+                      "): it cannot describe data there");
+        (void)u;
+      }
+    }
+  }
+  {
+    std::vector<double> a = xs, b = vs;
+    setup.x_lo = quantile(a, 0.002), setup.x_hi = quantile(a, 0.998);
+    setup.v_lo = quantile(b, 0.002), setup.v_hi = quantile(b, 0.998);
+    if (!(setup.x_hi > setup.x_lo)) setup.x_hi = setup.x_lo + 1e-9;
+    if (!(setup.v_hi > setup.v_lo)) setup.v_hi = setup.v_lo + 1e-9;
+    const double xa = quantile(a, 0.0005), xb = quantile(a, 0.9995);
+    const double va = quantile(b, 0.0005), vb = quantile(b, 0.9995);
+    const double wx = std::max(xb - xa, 1e-9), wv = std::max(vb - va, 1e-9);
+    setup.hx_lo = setup.hxy_x_lo = xa - 0.05 * wx;
+    setup.hx_hi = setup.hxy_x_hi = xb + 0.05 * wx;
+    setup.hxy_v_lo = va - 0.05 * wv;
+    setup.hxy_v_hi = vb + 0.05 * wv;
+    // coarse cells of the pdf test: at most U/4 dimensions
+    const int pmax = std::max(1, U / 4);
+    int ncv = 3, ncx = std::min(6, (pmax + 1) / 3);
+    if (ncx < 2) {
+      ncv = 1;
+      ncx = std::min(6, pmax + 1);
+    }
+    for (int i = 1; i < ncx; ++i) setup.cell_x.push_back(quantile(a, static_cast<double>(i) / ncx));
+    for (int j = 1; j < ncv; ++j) setup.cell_v.push_back(quantile(b, static_cast<double>(j) / ncv));
+  }
+  // wells from the model's potential over the data's range
+  fpk::FpkModel* fm_ptr = nullptr;
+  std::unique_ptr<fpk::FpkModel> fm;
+  try {
+    fm = std::make_unique<fpk::FpkModel>(model, "model");
+    fm_ptr = fm.get();
+  } catch (const Error& e) {
+    res.fpk_note = std::string("no stationary FPK for this model: ") + e.what();
+  }
+  if (fm_ptr) {
+    const double xmin = *std::min_element(xs.begin(), xs.end()), xmax = *std::max_element(xs.begin(), xs.end());
+    const double w = xmax - xmin;
+    auto wells = fpk::find_wells(*fm_ptr, xmin - 0.1 * w, xmax + 0.1 * w);
+    if (wells.size() >= 2 && static_cast<int>(wells.size()) <= std::max(2, U / 4)) {
+      for (std::size_t k = 0; k < wells.size(); ++k) {
+        const fpk::Well& wl = wells[k];
+        WellInfo wi;
+        wi.x_min = wl.x_min;
+        wi.lo = k == 0 ? -std::numeric_limits<double>::infinity() : wl.lo;
+        wi.hi = k + 1 == wells.size() ? std::numeric_limits<double>::infinity() : wl.hi;
+        // core: where U is below the midpoint between the minimum and the lower interior barrier
+        double barrier = std::numeric_limits<double>::infinity();
+        if (k > 0) barrier = std::min(barrier, fm_ptr->potential(wl.lo));
+        if (k + 1 < wells.size()) barrier = std::min(barrier, fm_ptr->potential(wl.hi));
+        const double level = wl.potential + 0.5 * (barrier - wl.potential);
+        const double step = (wl.hi - wl.lo) / 2000.0;
+        double a = wl.x_min, b = wl.x_min;
+        while (a - step > wl.lo && fm_ptr->potential(a - step) < level) a -= step;
+        while (b + step < wl.hi && fm_ptr->potential(b + step) < level) b += step;
+        wi.core_lo = a;
+        wi.core_hi = b;
+        res.wells.push_back(wi);
+        if (k > 0) setup.well_bounds.push_back(wl.lo);
+        setup.core_lo.push_back(a);
+        setup.core_hi.push_back(b);
+      }
+    } else if (wells.size() > 2) {
+      res.warnings.push_back("the model has " + std::to_string(wells.size()) + " wells but only " + std::to_string(U) +
+                             " units: the well test is skipped");
+    }
+  }
+  // spectra, ACFs
+  // x is block-averaged so that a spectrum segment of at most 2048 block means spans about a
+  // quarter of the shortest unit; the residual spectrum runs at the row rate
+  setup.x_decimation = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(static_cast<double>(min_unit_len) / 4.0 / 2048.0)));
+  const std::size_t n_dec = min_unit_len / setup.x_decimation;
+  setup.seg_x = std::clamp<std::size_t>(pow2_at_most(n_dec / 4), 16, 2048);
+  setup.lags_x = std::max<std::size_t>(1, std::min(setup.seg_x / 2, n_dec / 2));
+  setup.seg_r = std::clamp<std::size_t>(pow2_at_most(min_unit_rows / 8), 16, 8192);
+  setup.lags_r = std::max<std::size_t>(1, std::min(static_cast<std::size_t>(opt.residual_lags), min_unit_rows / 4));
+  lap(res, "setup");
+
+  // ---- statistics of the data and of the twins, per unit
+  auto run_units = [&](const Dataset& d, std::vector<UnitStats>& out, bool add, Progress& prog) {
+    std::vector<UnitStats> one(units.size());
+    std::exception_ptr failure;
+    std::mutex mtx;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long j = 0; j < static_cast<long>(units.size()); ++j) {
+      try {
+        const UnitSpan& s = units[static_cast<std::size_t>(j)];
+        const Record& rec = d.records[s.record];
+        detail::compute_unit(setup, d.x_of(rec), model.uses_drive() ? d.u_of(rec) : nullptr, rec.size,
+                             rec.t0, s, one[static_cast<std::size_t>(j)]);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mtx);
+        if (!failure) failure = std::current_exception();
+      }
+      prog.advance();
+    }
+    if (failure) std::rethrow_exception(failure);
+    if (!add) {
+      out = std::move(one);
+    } else {
+      for (std::size_t j = 0; j < units.size(); ++j) out[j].add(one[j]);
+    }
+  };
+  const int R = opt.replicates > 0
+                    ? opt.replicates
+                    : std::clamp(static_cast<int>(std::ceil(2e6 / static_cast<double>(std::max<std::size_t>(res.samples, 1)))), 1, 8);
+  si.replicates = R;
+  Progress prog("diagnose", static_cast<long long>(units.size()) * (R + 1), opt.progress);
+  std::vector<UnitStats> dstats, tstats, rep0;
+  run_units(data, dstats, false, prog);
+  lap(res, "data_statistics");
+
+  detail::TwinSettings ts;
+  {
+    const bool consistent = verdict == "scheme-consistent";
+    ts.scheme = opt.twin_scheme_auto ? (consistent ? sim::Scheme::Rk4Euler : sim::Scheme::Taylor15) : opt.twin_scheme;
+    ts.substeps = opt.twin_substeps > 0 ? opt.twin_substeps : (consistent ? 1 : 10);
+    ts.sensor_noise = lens.sensor_noise_sd;
+    ts.seed = opt.seed;
+    ts.smoothing = lens.sensor_noise_sd > 0.0 ? std::max(2, lens.stride) : 1;
+    si.twin_scheme = enum_to_string(sim::kSchemeNames, ts.scheme);
+    si.twin_substeps = ts.substeps;
+  }
+  detail::TwinSimulator twins(model, data, ts);
+  tstats.resize(units.size());
+  for (auto& t : tstats) t.init(setup);
+  std::vector<std::vector<double>> rep_hx, rep_hxy;  // pooled per replicate (Hellinger null)
+  double sim_seconds = 0.0;
+  {
+    Dataset twin;
+    for (int rep = 0; rep < R; ++rep) {
+      const auto t0 = std::chrono::steady_clock::now();
+      twins.simulate(rep, twin);
+      sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      run_units(twin, tstats, true, prog);
+      if (rep == 0) rep0 = tstats;
+      if (rep < 2) {
+        std::vector<double> hx(static_cast<std::size_t>(setup.hx_n), 0.0), hxy(static_cast<std::size_t>(setup.hxy_nx * setup.hxy_nv), 0.0);
+        for (std::size_t j = 0; j < units.size(); ++j) {
+          for (std::size_t b = 0; b < hx.size(); ++b) hx[b] += tstats[j].hx[b] - (rep == 1 ? rep0[j].hx[b] : 0.0);
+          for (std::size_t b = 0; b < hxy.size(); ++b) hxy[b] += tstats[j].hxy[b] - (rep == 1 ? rep0[j].hxy[b] : 0.0);
+        }
+        rep_hx.push_back(std::move(hx));
+        rep_hxy.push_back(std::move(hxy));
+      }
+    }
+  }
+  prog.finish();
+  res.timings["twin_simulation"] = sim_seconds;
+  lap(res, "twin_statistics");
+
+  double invalid = 0.0;
+  for (const auto& s : dstats) invalid += s.invalid_rows;
+  if (invalid > 0)
+    res.warnings.push_back(fmt(invalid, 6) + " data rows where the model's residual variance is not positive were left out");
+
+  // ================================================================== tests
+  const auto Ud = static_cast<std::size_t>(U);
+  // ---- one-step map: paired jackknife over units, per bin
+  {
+    OneStepMap& mp = res.map;
+    mp.nx = setup.nx;
+    mp.nv = setup.nv;
+    mp.x_lo = setup.x_lo;
+    mp.x_hi = setup.x_hi;
+    mp.v_lo = setup.v_lo;
+    mp.v_hi = setup.v_hi;
+    const int B = setup.map_bins();
+    mp.bins.resize(static_cast<std::size_t>(B));
+    std::vector<double> tvals, nus;
+    struct Mom {
+      double n, m, var, kurt;
+    };
+    auto moments = [](const double* s) {
+      Mom o{s[0], 0, 0, 0};
+      if (s[0] <= 0) return o;
+      const double m = s[1] / s[0], e2 = s[2] / s[0], e3 = s[3] / s[0], e4 = s[4] / s[0];
+      o.m = m;
+      o.var = e2 - m * m;
+      const double m4 = e4 - 4 * m * e3 + 6 * m * m * e2 - 3 * m * m * m * m;
+      o.kurt = o.var > 0 ? m4 / (o.var * o.var) : 0.0;
+      return o;
+    };
+    for (int b = 0; b < B; ++b) {
+      double D[5] = {0, 0, 0, 0, 0}, T[5] = {0, 0, 0, 0, 0};
+      int ud = 0, ut = 0;
+      for (std::size_t j = 0; j < Ud; ++j) {
+        const double* d = dstats[j].map.data() + b * 5;
+        const double* t = tstats[j].map.data() + b * 5;
+        for (int k = 0; k < 5; ++k) D[k] += d[k], T[k] += t[k];
+        ud += d[0] > 0;
+        ut += t[0] > 0;
+      }
+      MapBin& mb = mp.bins[static_cast<std::size_t>(b)];
+      const int i = b / setup.nv, jv = b % setup.nv;
+      mb.x = setup.x_lo + (i + 0.5) * (setup.x_hi - setup.x_lo) / setup.nx;
+      mb.v = setup.v_lo + (jv + 0.5) * (setup.v_hi - setup.v_lo) / setup.nv;
+      const Mom md = moments(D), mt = moments(T);
+      mb.n_data = md.n;
+      mb.n_twin = mt.n / R;
+      mb.mean_data = md.m;
+      mb.mean_twin = mt.m;
+      mb.var_data = md.var;
+      mb.var_twin = mt.var;
+      mb.kurt_data = md.kurt;
+      mb.kurt_twin = mt.kurt;
+      if (md.n < opt.min_bin_count || mt.n / R < opt.min_bin_count || ud < 2 || ut < 2 || U < 3) continue;
+      const double th[3] = {md.m - mt.m, std::log(md.var / mt.var), md.kurt - mt.kurt};
+      double acc[3] = {0, 0, 0}, acc2[3] = {0, 0, 0};
+      std::vector<double> jk(3 * Ud);
+      for (std::size_t j = 0; j < Ud; ++j) {
+        double Dj[5], Tj[5];
+        const double* d = dstats[j].map.data() + b * 5;
+        const double* t = tstats[j].map.data() + b * 5;
+        for (int k = 0; k < 5; ++k) Dj[k] = D[k] - d[k], Tj[k] = T[k] - t[k];
+        const Mom a = moments(Dj), c = moments(Tj);
+        const double v[3] = {a.m - c.m, (a.var > 0 && c.var > 0) ? std::log(a.var / c.var) : th[1], a.kurt - c.kurt};
+        for (int k = 0; k < 3; ++k) {
+          jk[3 * j + static_cast<std::size_t>(k)] = v[k];
+          acc[k] += v[k];
+        }
+      }
+      for (int k = 0; k < 3; ++k) {
+        const double mean = acc[k] / static_cast<double>(Ud);
+        for (std::size_t j = 0; j < Ud; ++j) {
+          const double e = jk[3 * j + static_cast<std::size_t>(k)] - mean;
+          acc2[k] += e * e;
+        }
+      }
+      double z[3];
+      for (int k = 0; k < 3; ++k) {
+        const double se = std::sqrt((static_cast<double>(Ud) - 1.0) / static_cast<double>(Ud) * acc2[k]);
+        z[k] = se > 0 ? th[k] / se : 0.0;
+      }
+      mb.z_mean = z[0];
+      mb.z_var = z[1];
+      mb.z_kurt = z[2];
+      mb.used = true;
+      tvals.push_back(z[0]);
+      tvals.push_back(z[1]);
+      nus.push_back(U - 1.0);
+      nus.push_back(U - 1.0);
+    }
+    Component c{"one_step",
+                "whitened one-step residual mean and log-variance per (x, v) bin, data vs twins",
+                combine_t(tvals, nus)};
+    if (!c.test.available) c.test.note = "no bin has " + fmt(opt.min_bin_count) + " rows on both sides";
+    res.components.push_back(c);
+    std::vector<int> idx;
+    for (int b = 0; b < B; ++b)
+      if (mp.bins[static_cast<std::size_t>(b)].used) idx.push_back(b);
+    std::sort(idx.begin(), idx.end(), [&](int a, int b) {
+      return std::abs(mp.bins[static_cast<std::size_t>(a)].z_mean) > std::abs(mp.bins[static_cast<std::size_t>(b)].z_mean);
+    });
+    if (idx.size() > 10) idx.resize(10);
+    mp.worst = idx;
+  }
+
+  // ---- paired components: per-unit difference vectors f(a, b) (false when undefined)
+  using DiffFn = std::function<bool(const UnitStats&, const UnitStats&, Eigen::VectorXd&)>;
+  auto unit_diffs = [&](const DiffFn& f, const std::vector<UnitStats>& A, const std::vector<UnitStats>& B, int p) {
+    std::vector<Eigen::VectorXd> rows;
+    Eigen::VectorXd d(p);
+    for (std::size_t j = 0; j < A.size(); ++j)
+      if (f(A[j], B[j], d)) rows.push_back(d);
+    Eigen::MatrixXd M(static_cast<Eigen::Index>(rows.size()), p);
+    for (std::size_t i = 0; i < rows.size(); ++i) M.row(static_cast<Eigen::Index>(i)) = rows[i].transpose();
+    return M;
+  };
+  auto rows_of = [](const UnitStats& s) { return std::accumulate(s.cells.begin(), s.cells.end(), 0.0); };
+  const int pmax = std::max(1, U / 4);
+  const auto edges_r = log_bands(setup.seg_r / 2, std::min(12, pmax));
+  const auto edges_x = log_bands(setup.seg_x / 2, std::min(12, pmax));
+  auto spectrum_fn = [&](const std::vector<std::size_t>& edges, bool residual) -> DiffFn {
+    return [&edges, residual](const UnitStats& a, const UnitStats& b, Eigen::VectorXd& d) {
+      const auto& pa = residual ? a.rpsd : a.xpsd;
+      const auto& pb = residual ? b.rpsd : b.xpsd;
+      if (!(a.replicates > 0 && b.replicates > 0)) return false;
+      for (std::size_t k = 0; k + 1 < edges.size(); ++k) {
+        const double va = band_mean(pa, edges[k], edges[k + 1]) / a.replicates;
+        const double vb = band_mean(pb, edges[k], edges[k + 1]) / b.replicates;
+        if (!(va > 0 && vb > 0)) return false;
+        d[static_cast<Eigen::Index>(k)] = std::log(va / vb);
+      }
+      return true;
+    };
+  };
+  const int C = setup.cells();
+  const int W = setup.wells() >= 2 ? setup.wells() : 0;
+  struct Paired {
+    std::string name, what;
+    DiffFn f;
+    int p;
+    bool parameter_sensitive;  ///< the model's parameter uncertainty moves it (stationary, x spectrum)
+  };
+  std::vector<Paired> paired;
+  paired.push_back({"residual_spectrum",
+                    "log spectrum of the whitened residuals in log-spaced frequency bands (memory, periodic forcing)",
+                    spectrum_fn(edges_r, true), static_cast<int>(edges_r.size()) - 1, false});
+  if (C >= 2)
+    paired.push_back({"pdf", "occupation of " + std::to_string(C) + " coarse (x, v) cells (quantiles of the data)",
+                      [&, C](const UnitStats& a, const UnitStats& b, Eigen::VectorXd& d) {
+                        const double na = rows_of(a), nb = rows_of(b);
+                        if (!(na > 0 && nb > 0)) return false;
+                        for (int c = 0; c + 1 < C; ++c)
+                          d[c] = a.cells[static_cast<std::size_t>(c)] / na - b.cells[static_cast<std::size_t>(c)] / nb;
+                        return true;
+                      },
+                      C - 1, true});
+  paired.push_back({"power", "log E[X^2] and log E[v^2] (v the lens velocity; E[Y^2] is the mean power)",
+                    [&](const UnitStats& a, const UnitStats& b, Eigen::VectorXd& d) {
+                      const double na = rows_of(a), nb = rows_of(b);
+                      if (!(na > 0 && nb > 0 && a.sx2 > 0 && b.sx2 > 0 && a.sv2 > 0 && b.sv2 > 0)) return false;
+                      d[0] = std::log((a.sx2 / na) / (b.sx2 / nb));
+                      d[1] = std::log((a.sv2 / na) / (b.sv2 / nb));
+                      return true;
+                    },
+                    2, true});
+  if (W >= 2)
+    paired.push_back({"wells", "probability per well of the model's potential and the well-to-well transition rate",
+                      [&, W](const UnitStats& a, const UnitStats& b, Eigen::VectorXd& d) {
+                        const double na = rows_of(a), nb = rows_of(b);
+                        if (!(na > 0 && nb > 0 && a.duration > 0 && b.duration > 0)) return false;
+                        for (int w = 0; w + 1 < W; ++w)
+                          d[w] = a.well_rows[static_cast<std::size_t>(w)] / na - b.well_rows[static_cast<std::size_t>(w)] / nb;
+                        d[W - 1] = a.transitions / a.duration - b.transitions / b.duration;
+                        return true;
+                      },
+                      W, true});
+  paired.push_back({"acf", "log power spectrum of x in log-spaced frequency bands (the Fourier pair of its ACF)",
+                    spectrum_fn(edges_x, false), static_cast<int>(edges_x.size()) - 1, true});
+  lap(res, "tests_setup");
+
+  // ---- the model's parameter uncertainty: refit on pseudo-data, resimulate with common random numbers
+  std::vector<Eigen::MatrixXd> extra(paired.size());
+  int draws = 0;
+  {
+    const bool fitted = !model.drift_stderr.empty() || !model.diffusion_stderr.empty();
+    const bool use = opt.parameter_uncertainty == ParameterUncertainty::On ||
+                     (opt.parameter_uncertainty == ParameterUncertainty::Auto && fitted);
+    if (use && model.has_dynamic_effects()) {
+      res.warnings.push_back("the model's parameter uncertainty is not propagated: identify cannot refit its dynamic effects");
+    } else if (use) {
+      // pseudo-data: twins of the first records, at most parameter_fit_samples samples
+      Dataset sub;
+      for (const auto& r : data.records) {
+        if (sub.x.size() >= static_cast<std::size_t>(opt.parameter_fit_samples)) break;
+        Record nr = r;
+        nr.size = std::min(r.size, static_cast<std::size_t>(opt.parameter_fit_samples) - sub.x.size());
+        if (nr.size < 64) break;
+        nr.offset = sub.x.size();
+        sub.x.insert(sub.x.end(), data.x_of(r), data.x_of(r) + nr.size);
+        if (data.has_u()) sub.u.insert(sub.u.end(), data.u_of(r), data.u_of(r) + nr.size);
+        sub.records.push_back(nr);
+      }
+      const double scale = static_cast<double>(sub.x.size()) / static_cast<double>(res.samples);
+      identify::Options io;
+      io.drift_library = terms_of(model.drift);
+      io.diffusion_library = terms_of(model.diffusion);
+      io.sparsity = identify::Sparsity::None;
+      if (lens.kinematics == Kinematics::Forward) {
+        io.estimator = identify::Estimator::Forward;
+      } else {
+        io.estimator = lens.sensor_noise_sd > 0 ? identify::Estimator::Noisy : identify::Estimator::Uli;
+        io.stride = lens.stride;
+      }
+      detail::TwinSettings ps = ts;
+      ps.seed = ts.seed ^ 0x5EED5EED5EEDull;
+      detail::TwinSimulator pseudo_sim(model, sub, ps);
+      std::vector<Eigen::MatrixXd> acc(paired.size());
+      for (std::size_t k = 0; k < paired.size(); ++k) acc[k] = Eigen::MatrixXd::Zero(paired[k].p, paired[k].p);
+      Dataset pseudo, star_twin;
+      std::vector<UnitStats> star(units.size());
+      Progress pprog("parameter draws", opt.parameter_draws, opt.progress);
+      try {
+        for (int b = 0; b < opt.parameter_draws; ++b) {
+          pseudo_sim.simulate(b, pseudo);
+          const Model mstar = identify::identify(pseudo, io).model;
+          detail::TwinSimulator star_sim(mstar, data, ts);  // same seed as twin replicate 0
+          star_sim.simulate(0, star_twin);
+#pragma omp parallel for schedule(dynamic, 1)
+          for (long j = 0; j < static_cast<long>(units.size()); ++j) {
+            const UnitSpan& sp = units[static_cast<std::size_t>(j)];
+            const Record& rec = star_twin.records[sp.record];
+            detail::compute_unit(setup, star_twin.x_of(rec), nullptr, rec.size, rec.t0, sp,
+                                 star[static_cast<std::size_t>(j)], true);
+          }
+          for (std::size_t k = 0; k < paired.size(); ++k) {
+            if (!paired[k].parameter_sensitive) continue;
+            const Eigen::MatrixXd De = unit_diffs(paired[k].f, star, rep0, paired[k].p);
+            if (De.rows() < 3) continue;
+            const Eigen::VectorXd e = De.colwise().mean().transpose();
+            const Eigen::MatrixXd Ce = De.rowwise() - e.transpose();
+            const double n = static_cast<double>(De.rows());
+            acc[k] += e * e.transpose() - (Ce.transpose() * Ce) / ((n - 1.0) * n);
+          }
+          ++draws;
+          pprog.advance();
+        }
+      } catch (const std::exception& e) {
+        res.warnings.push_back(std::string("the model's parameter uncertainty could not be estimated (") + e.what() +
+                               "); the stationary tests ignore it");
+        draws = 0;
+      }
+      pprog.finish();
+      if (draws > 0)
+        for (std::size_t k = 0; k < paired.size(); ++k) {
+          if (!paired[k].parameter_sensitive) continue;
+          Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(acc[k] * (scale / draws));
+          Eigen::VectorXd lam = es.eigenvalues().cwiseMax(0.0);
+          extra[k] = es.eigenvectors() * lam.asDiagonal() * es.eigenvectors().transpose();
+        }
+      res.parameter_draws = draws;
+      res.parameter_fit_samples = sub.x.size();
+    }
+  }
+  lap(res, "parameter_draws");
+
+  for (std::size_t k = 0; k < paired.size(); ++k) {
+    const Eigen::MatrixXd Dm = unit_diffs(paired[k].f, dstats, tstats, paired[k].p);
+    const bool with = draws > 0 && paired[k].parameter_sensitive;
+    res.components.push_back({paired[k].name, paired[k].what,
+                              hotelling_zero_mean(Dm, 1e-9, with ? &extra[k] : nullptr, with ? draws : 0.0)});
+  }
+
+  // ---- quantities for the table
+  {
+    std::vector<double> nd(Ud), nt(Ud), xd(Ud), xt(Ud), vd(Ud), vt(Ud);
+    for (std::size_t j = 0; j < Ud; ++j) {
+      nd[j] = rows_of(dstats[j]);
+      nt[j] = rows_of(tstats[j]);
+      xd[j] = dstats[j].sx2, xt[j] = tstats[j].sx2, vd[j] = dstats[j].sv2, vt[j] = tstats[j].sv2;
+    }
+    auto quantity = [&](const std::string& name, const std::vector<double>& Nd, const std::vector<double>& Dd,
+                        const std::vector<double>& Nt, const std::vector<double>& Dt) {
+      Quantity q;
+      q.name = name;
+      const Ratio a = ratio_over_units(Nd, Dd), b = ratio_over_units(Nt, Dt);
+      q.data = a.value, q.data_se = a.se, q.twin = b.value, q.twin_se = b.se;
+      // paired jackknife z of the difference (unit-to-unit spread only)
+      const double SNd = std::accumulate(Nd.begin(), Nd.end(), 0.0), SDd = std::accumulate(Dd.begin(), Dd.end(), 0.0);
+      const double SNt = std::accumulate(Nt.begin(), Nt.end(), 0.0), SDt = std::accumulate(Dt.begin(), Dt.end(), 0.0);
+      std::vector<double> jk(Nd.size());
+      double mean = 0.0;
+      for (std::size_t j = 0; j < Nd.size(); ++j) {
+        jk[j] = (SNd - Nd[j]) / (SDd - Dd[j]) - (SNt - Nt[j]) / (SDt - Dt[j]);
+        mean += jk[j];
+      }
+      mean /= static_cast<double>(Nd.size());
+      double ss = 0.0;
+      for (double v : jk) ss += (v - mean) * (v - mean);
+      const double n = static_cast<double>(Nd.size());
+      const double se = std::sqrt((n - 1.0) / n * ss);
+      q.z = se > 0 ? (q.data - q.twin) / se : 0.0;
+      res.quantities.push_back(q);
+    };
+    quantity("E[X^2]", xd, nd, xt, nt);
+    quantity("E[v^2]", vd, nd, vt, nt);
+    if (W >= 2) {
+      std::vector<double> wd(Ud), wt(Ud), trd(Ud), trt(Ud), dud(Ud), dut(Ud);
+      for (int w = 0; w < W; ++w) {
+        for (std::size_t j = 0; j < Ud; ++j) {
+          wd[j] = dstats[j].well_rows[static_cast<std::size_t>(w)];
+          wt[j] = tstats[j].well_rows[static_cast<std::size_t>(w)];
+        }
+        quantity("P(well " + std::to_string(w + 1) + ", x_min = " + fmt(res.wells[static_cast<std::size_t>(w)].x_min, 3) + ")",
+                 wd, nd, wt, nt);
+      }
+      for (std::size_t j = 0; j < Ud; ++j) {
+        trd[j] = dstats[j].transitions, trt[j] = tstats[j].transitions;
+        dud[j] = dstats[j].duration, dut[j] = tstats[j].duration;
+      }
+      quantity("transition rate (per time unit)", trd, dud, trt, dut);
+    }
+  }
+  lap(res, "tests");
+
+  // ================================================================== curves for the report
+  {
+    // p(x)
+    Curve& c = res.px;
+    const double w = (setup.hx_hi - setup.hx_lo) / setup.hx_n;
+    std::vector<double> nd(Ud), nt(Ud);
+    for (std::size_t j = 0; j < Ud; ++j) {
+      nd[j] = std::accumulate(dstats[j].cells.begin(), dstats[j].cells.end(), 0.0) * w;
+      nt[j] = std::accumulate(tstats[j].cells.begin(), tstats[j].cells.end(), 0.0) * w;
+    }
+    std::vector<double> hd(Ud), ht(Ud), pooled_d(static_cast<std::size_t>(setup.hx_n)), pooled_t(pooled_d.size());
+    for (int b = 0; b < setup.hx_n; ++b) {
+      for (std::size_t j = 0; j < Ud; ++j) {
+        hd[j] = dstats[j].hx[static_cast<std::size_t>(b)];
+        ht[j] = tstats[j].hx[static_cast<std::size_t>(b)];
+      }
+      const Ratio a = ratio_over_units(hd, nd), t = ratio_over_units(ht, nt);
+      c.at.push_back(setup.hx_lo + (b + 0.5) * w);
+      c.data.push_back(a.value);
+      c.data_se.push_back(a.se);
+      c.twin.push_back(t.value);
+      c.twin_se.push_back(t.se);
+      pooled_d[static_cast<std::size_t>(b)] = std::accumulate(hd.begin(), hd.end(), 0.0);
+      pooled_t[static_cast<std::size_t>(b)] = std::accumulate(ht.begin(), ht.end(), 0.0);
+    }
+    res.hellinger_px = hellinger_distance(pooled_d, pooled_t);
+    if (rep_hx.size() >= 2) res.hellinger_px_null = hellinger_distance(rep_hx[0], rep_hx[1]);
+    // p(x, v)
+    res.pxy_nx = setup.hxy_nx;
+    res.pxy_nv = setup.hxy_nv;
+    res.pxy_x_lo = setup.hxy_x_lo, res.pxy_x_hi = setup.hxy_x_hi;
+    res.pxy_v_lo = setup.hxy_v_lo, res.pxy_v_hi = setup.hxy_v_hi;
+    std::vector<double> sd(static_cast<std::size_t>(setup.hxy_nx * setup.hxy_nv), 0.0), st = sd;
+    for (std::size_t j = 0; j < Ud; ++j)
+      for (std::size_t b = 0; b < sd.size(); ++b) sd[b] += dstats[j].hxy[b], st[b] += tstats[j].hxy[b];
+    res.hellinger_pxy = hellinger_distance(sd, st);
+    if (rep_hxy.size() >= 2) res.hellinger_pxy_null = hellinger_distance(rep_hxy[0], rep_hxy[1]);
+    const double area = (setup.hxy_x_hi - setup.hxy_x_lo) / setup.hxy_nx * (setup.hxy_v_hi - setup.hxy_v_lo) / setup.hxy_nv;
+    double totd = 0.0, tott = 0.0;
+    for (std::size_t j = 0; j < Ud; ++j) {
+      totd += std::accumulate(dstats[j].cells.begin(), dstats[j].cells.end(), 0.0);
+      tott += std::accumulate(tstats[j].cells.begin(), tstats[j].cells.end(), 0.0);
+    }
+    res.pxy_data.resize(sd.size());
+    res.pxy_twin.resize(sd.size());
+    for (std::size_t b = 0; b < sd.size(); ++b) {
+      res.pxy_data[b] = sd[b] / (totd * area);
+      res.pxy_twin[b] = st[b] / (tott * area);
+    }
+  }
+  auto per_unit_curve = [&](Curve& c, std::size_t n, const std::function<double(const UnitStats&, std::size_t)>& f,
+                            const std::function<double(std::size_t)>& at) {
+    std::vector<double> vd(Ud), vt(Ud);
+    for (std::size_t k = 0; k < n; ++k) {
+      for (std::size_t j = 0; j < Ud; ++j) {
+        vd[j] = f(dstats[j], k);
+        vt[j] = f(tstats[j], k);
+      }
+      const Ratio a = mean_over_units(vd), t = mean_over_units(vt);
+      c.at.push_back(at(k));
+      c.data.push_back(a.value);
+      c.data_se.push_back(a.se);
+      c.twin.push_back(t.value);
+      c.twin_se.push_back(t.se);
+    }
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  per_unit_curve(res.residual_acf, setup.lags_r + 1,
+                 [&](const UnitStats& s, std::size_t l) {
+                   if (!(s.racf_n[l] > 0 && s.racf[0] > 0)) return nan;
+                   return (s.racf[l] / s.racf_n[l]) / (s.racf[0] / s.racf_n[0]);
+                 },
+                 [&](std::size_t l) { return static_cast<double>(l) * dt; });
+  per_unit_curve(res.x_acf, setup.lags_x + 1,
+                 [&](const UnitStats& s, std::size_t l) { return s.replicates > 0 ? s.xacf[l] / s.replicates : nan; },
+                 [&](std::size_t l) { return static_cast<double>(l) * setup.dt_x(); });
+  // spectra on ~80 log-spaced display bands
+  auto display_spectrum = [&](Curve& c, bool residual) {
+    const std::size_t seg = residual ? setup.seg_r : setup.seg_x;
+    const auto edges = log_bands(seg / 2, 80);
+    per_unit_curve(c, edges.size() - 1,
+                   [&](const UnitStats& s, std::size_t b) {
+                     const auto& p = residual ? s.rpsd : s.xpsd;
+                     if (!(s.replicates > 0)) return nan;
+                     const double v = band_mean(p, edges[b], edges[b + 1]) / s.replicates;
+                     return v > 0 ? v : nan;
+                   },
+                   [&](std::size_t b) {
+                     const double k = std::sqrt(static_cast<double>(edges[b]) * static_cast<double>(edges[b + 1] - 1));
+                     return k / (static_cast<double>(seg) * (residual ? dt : setup.dt_x()));
+                   });
+  };
+  display_spectrum(res.residual_psd, true);
+  display_spectrum(res.x_psd, false);
+
+  // ---- FPK reference
+  if (opt.fpk && fm_ptr) {
+    try {
+      fpk::GridRequest req;
+      req.grid.x.n = opt.fpk_cells;
+      req.grid.y.n = opt.fpk_cells;
+      const fpk::StationaryResult st =
+          fpk::solve_with_domain(*fm_ptr, req, fpk::SolveOptions{}, conventions::fpk_boundary_mass_tolerance);
+      const auto& g = st.grid;
+      for (double xq : res.px.at) {
+        const double fi = (xq - g.x.min) / g.x.h() - 0.5;
+        const int i = static_cast<int>(std::floor(fi));
+        double v = 0.0;
+        if (i >= 0 && i + 1 < g.x.n) {
+          const double t = fi - i;
+          v = (1 - t) * st.marginal_x[static_cast<std::size_t>(i)] + t * st.marginal_x[static_cast<std::size_t>(i) + 1];
+        }
+        res.px.reference.push_back(v);
+      }
+      res.quantities[0].reference = st.moments.exx;
+      res.quantities[1].reference = st.moments.eyy;
+      res.fpk_note = "stationary FPK of the model on " + std::to_string(g.x.n) + " x " + std::to_string(g.y.n) +
+                     " cells over x in [" + fmt(g.x.min) + ", " + fmt(g.x.max) + "], y in [" + fmt(g.y.min) + ", " +
+                     fmt(g.y.max) + "]";
+    } catch (const Error& e) {
+      res.fpk_note = std::string("the stationary FPK of the model could not be solved: ") + e.what();
+    }
+  } else if (!opt.fpk) {
+    res.fpk_note = "FPK reference switched off";
+  }
+  lap(res, "fpk_reference");
+
+  // ================================================================== verdict and score
+  int available = 0;
+  for (const auto& c : res.components) available += c.test.available;
+  res.threshold = available > 0 ? opt.alpha / available : opt.alpha;
+  bool bad = false;
+  res.score = 0.0;
+  for (const auto& c : res.components)
+    if (c.test.available) {
+      bad = bad || c.test.p_value < res.threshold;
+      res.score += c.test.excess;
+    }
+  res.verdict = bad ? "inadequate" : "adequate";
+  if (available == 0) res.warnings.push_back("no test could be computed: the verdict rests on nothing");
+
+  // ================================================================== suspects
+  if (opt.suspects.enabled) {
+    res.suspects = rank_suspects(model, data, lens, opt.suspects, opt.progress);
+    for (auto& s : res.suspects.ranked) {
+      // a suspect is only claimed when the model is found inadequate
+      s.significant = s.held_out_significant && bad;
+    }
+    lap(res, "suspects");
+  }
+  res.timings["total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  return res;
+}
+
+}  // namespace vehs::diagnose

@@ -1,0 +1,131 @@
+#include "twins.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "vehs/core/error.hpp"
+
+namespace vehs::diagnose::detail {
+
+namespace {
+std::uint64_t splitmix(std::uint64_t z) {
+  z += 0x9E3779B97F4A7C15ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+}  // namespace
+
+void initial_states(const Dataset& data, int smoothing, std::vector<double>& x0, std::vector<double>& y0) {
+  x0.clear();
+  y0.clear();
+  for (const auto& r : data.records) {
+    const double* x = data.x_of(r);
+    const double dt = r.dt;
+    if (smoothing <= 1 || r.size < static_cast<std::size_t>(2 * smoothing + 1)) {
+      x0.push_back(x[0]);
+      y0.push_back(r.size >= 3 ? (-3.0 * x[0] + 4.0 * x[1] - x[2]) / (2.0 * dt)
+                               : (r.size >= 2 ? (x[1] - x[0]) / dt : 0.0));
+      continue;
+    }
+    // least-squares quadratic x ≈ c0 + c1 τ + c2 τ² over τ = 0 .. 2w (in samples)
+    const int m = 2 * smoothing + 1;
+    double S[5] = {0, 0, 0, 0, 0}, T[3] = {0, 0, 0};
+    for (int i = 0; i < m; ++i) {
+      const double t = i, t2 = t * t;
+      S[0] += 1, S[1] += t, S[2] += t2, S[3] += t2 * t, S[4] += t2 * t2;
+      T[0] += x[i], T[1] += t * x[i], T[2] += t2 * x[i];
+    }
+    // solve the 3x3 normal equations by Cramer's rule
+    const double a11 = S[0], a12 = S[1], a13 = S[2], a22 = S[2], a23 = S[3], a33 = S[4];
+    const double det = a11 * (a22 * a33 - a23 * a23) - a12 * (a12 * a33 - a23 * a13) + a13 * (a12 * a23 - a22 * a13);
+    const double c0 = (T[0] * (a22 * a33 - a23 * a23) - a12 * (T[1] * a33 - a23 * T[2]) + a13 * (T[1] * a23 - a22 * T[2])) / det;
+    const double c1 = (a11 * (T[1] * a33 - a23 * T[2]) - T[0] * (a12 * a33 - a23 * a13) + a13 * (a12 * T[2] - T[1] * a13)) / det;
+    x0.push_back(c0);
+    y0.push_back(c1 / dt);
+  }
+}
+
+TwinSimulator::TwinSimulator(const Model& model, const Dataset& data, const TwinSettings& settings)
+    : model_(model), data_(data), settings_(settings) {
+  initial_states(data, settings.smoothing, x0_, y0_);
+  harmonic_ = model.find_effect(EffectId::HarmonicForcing) != nullptr;
+  std::map<std::pair<std::size_t, double>, std::size_t> index;
+  for (std::size_t r = 0; r < data.records.size(); ++r) {
+    const auto& rec = data.records[r];
+    const std::pair<std::size_t, double> key{rec.size, harmonic_ ? rec.t0 : 0.0};
+    auto it = index.find(key);
+    if (it == index.end()) {
+      it = index.emplace(key, groups_.size()).first;
+      groups_.push_back(Group{{}, key.second, rec.size});
+    }
+    groups_[it->second].records.push_back(r);
+  }
+}
+
+void TwinSimulator::simulate(int rep, Dataset& out) {
+  const double dt = data_.records.front().dt;
+  const bool one_group = groups_.size() == 1;
+  if (!one_group) {
+    out.records = data_.records;
+    out.x.resize(data_.x.size());
+    out.u.clear();
+    out.y.clear();
+  }
+  for (std::size_t g = 0; g < groups_.size(); ++g) {
+    const Group& G = groups_[g];
+    sim::SimulationOptions o;
+    o.dt = dt;
+    o.substeps = settings_.substeps;
+    o.samples = G.samples;
+    o.records = static_cast<int>(G.records.size());
+    o.scheme = settings_.scheme;
+    o.seed = splitmix(splitmix(settings_.seed) ^ (static_cast<std::uint64_t>(rep) << 32) ^ g);
+    o.x0.uniform = false;
+    o.sensor_noise = settings_.sensor_noise;
+    o.record_y = false;
+    o.allow_unconfined = true;  // a divergent model is reported as such by the simulator
+    for (std::size_t r : G.records) {
+      o.x0.values.push_back(x0_[r]);
+      o.x0.y_values.push_back(y0_[r]);
+      if (model_.uses_drive() && data_.has_u()) {
+        const double* u = data_.u_of(data_.records[r]);
+        o.drive_per_record.emplace_back(u, u + G.samples);
+      }
+    }
+    Model m = model_;
+    if (harmonic_ && G.t0 != 0.0)
+      for (auto& e : m.effects)
+        if (e.id == EffectId::HarmonicForcing) e.params["phase"] += e.param("omega") * G.t0;
+    Dataset& target = one_group ? out : scratch_;
+    try {
+      sim::simulate(m, o, target);
+    } catch (const Error& e) {
+      throw Error(std::string("simulating the model's twins of the data failed: ") + e.what());
+    }
+    if (one_group) {
+      // keep the data's record metadata (source, id, t0) so that errors name the data
+      for (std::size_t i = 0; i < G.records.size(); ++i) {
+        const auto& d = data_.records[G.records[i]];
+        Record& t = target.records[i];
+        t.source = "twin of " + d.source;
+        t.id = d.id;
+        t.t0 = d.t0;
+      }
+      // records are in the data's order when there is one group
+      continue;
+    }
+    for (std::size_t i = 0; i < G.records.size(); ++i) {
+      const Record& d = data_.records[G.records[i]];
+      const Record& t = scratch_.records[i];
+      std::copy(scratch_.x.begin() + static_cast<std::ptrdiff_t>(t.offset),
+                scratch_.x.begin() + static_cast<std::ptrdiff_t>(t.offset + t.size),
+                out.x.begin() + static_cast<std::ptrdiff_t>(d.offset));
+      out.records[G.records[i]].source = "twin of " + d.source;
+    }
+  }
+}
+
+}  // namespace vehs::diagnose::detail
