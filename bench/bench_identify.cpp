@@ -33,6 +33,13 @@ double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
+double cpu_seconds() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+}
+
 double peak_rss_mb() {
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
@@ -69,18 +76,24 @@ int generate(const fs::path& dir) {
 
 int run(const std::string& file, int threads) {
   vehs::set_threads(threads);
+  const double c0 = cpu_seconds();
   const auto t0 = Clock::now();
   vehs::ReadOptions ro;
   ro.read_u = false;
   const vehs::Dataset d = vehs::read_measurements(file, ro);
   const double t_read = seconds_since(t0);
+  const double c1 = cpu_seconds();
   const auto t1 = Clock::now();
   const auto r = vehs::identify::identify(d, vehs::identify::Options{});
   const double t_id = seconds_since(t1);
+  const double c2 = cpu_seconds();
   const double x_mb = static_cast<double>(d.x.size() * sizeof(double)) / (1024.0 * 1024.0);
   const double rss = peak_rss_mb();
   std::printf("%-34s threads %d  read %.3f s  identify %.3f s  total %.3f s  peak RSS %.0f MiB = %.2f x loaded x (%.0f MiB)\n",
               fs::path(file).filename().c_str(), threads, t_read, t_id, t_read + t_id, rss, rss / x_mb, x_mb);
+  std::printf("    CPU time: read %.3f s, identify %.3f s, total %.3f s (wall times above include waiting "
+              "for a core on a loaded machine)\n",
+              c1 - c0, c2 - c1, c2 - c0);
   std::printf("    estimator %s, %zu drift + %zu diffusion terms, timings %s\n",
               vehs::enum_to_string(vehs::identify::kEstimatorNames, r.estimator_used).c_str(),
               r.model.drift.size(), r.model.diffusion.size(), r.model.extra["fit"]["timings"].dump().c_str());

@@ -538,7 +538,6 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
   const int Kv = static_cast<int>(vt.size());
   const bool ito = ds.scores && ds.ito && Kv > 0;
   const bool noise = ds.scores && ds.noise;
-  const bool uli_factor = ds.target == Target::Uli;
   const double inv2h2 = 1.0 / (2.0 * cx.kin.h * cx.kin.h), two_h2 = 2.0 / (cx.kin.h * cx.kin.h);
   VectorXd cv(std::max(Kv, 1));
   for (int i = 0; i < Kv; ++i) cv[i] = ds.dm.cS[vt[static_cast<std::size_t>(i)]];
@@ -584,7 +583,7 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
     acc.mom.v2 += Eigen::Map<const VectorXd>(b.v, m).squaredNorm();
     cx.psi.values(b, Psi.data(), kB, scratch.data());
     if (ds.w.weighted) a22.head(m).noalias() = Psi.topLeftCorner(m, P) * ds.w.q;
-    const bool need_dv = Kv > 0 && (ito || noise || uli_factor);
+    const bool need_dv = Kv > 0 && (ito || noise);
     if (pS > 0 && (ds.scores || need_dv)) phiS.values(b, Phi.data(), kB, scratch.data());
     if (need_dv) {
       phiS.d_dv(b, Dv.data(), kB, scratch.data());
@@ -597,8 +596,6 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
       if (!diffusion_target(ds.target, cx.kin, r, raw, j, avail, z)) {
         w = 0.0;
       } else {
-        // ULI: the residual's noise covaries with F(x, v̂) (Stein): E[r²] = a22 (2/(3h) − ∂_vF)
-        if (uli_factor && Kv > 0) z /= std::max(0.5, 1.0 - 1.5 * cx.kin.h * dvc[c]);
         acc.n += 1.0;
         acc.zsum += z;
         if (ds.w.weighted) w = 1.0 / std::max(a22[c], ds.w.floor);

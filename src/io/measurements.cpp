@@ -275,7 +275,9 @@ Dataset read_csv(const std::string& path, const ReadOptions& o) {
   if (!header_done) throw Error(path + ": empty file (no header row)");
   rb->close();
   if (d.records.empty()) throw Error(path + ": no data rows after the header");
-  d.x.shrink_to_fit();
+  // shrink only when much was over-reserved: shrink_to_fit copies, which would double the
+  // peak memory of a large file for the two spare elements a header leaves
+  if (d.x.capacity() - d.x.size() > d.x.size() / 8) d.x.shrink_to_fit();
   return d;
 }
 

@@ -19,8 +19,9 @@
 //               ⟨â φ(x, v̂)⟩ = ⟨b2 φ⟩ + ½⟨a22 ∂_vφ⟩ + O(h): the drift solves the corrected
 //               normal equations G c = Σ φ â − ½ Σ ∂_vφ a22. Without this Itô correction the
 //               damping comes out ≈ 0 (stationarity makes Σ â v̂ ≈ 0). Diffusion:
-//               a22 = (3/2)·h·E[(â − F)² | x]/(1 − (3/2)·h·∂_vF) (the last factor: â's noise
-//               also covaries with F(x, v̂)), by weighted least squares. Consecutive residuals
+//               a22 = (3/2)·h·E[(â − F)² | x], by weighted least squares (â's noise covaries
+//               with F(x, v̂) and with the window average of b2 alike, h²/2 each, so the ∂_vF
+//               cross-terms cancel in E[(â − F)²]). Consecutive residuals
 //               (lag k) are correlated +1/4; standard errors account for it. The O(h²) error
 //               of the central difference, (h²/12)·x⁗, is removed from the target with x⁗
 //               from a pilot drift (deterministic part; exact for drifts linear in v).
