@@ -7,7 +7,8 @@
 #endif
 // The simulation engine (private to vehs_sim): batches of kLanes records integrated in lockstep
 // (SIMD lanes), normals generated a block of steps at a time, batches spread over OpenMP threads.
-// Each translation unit run_<scheme>.cpp instantiates run_all<Stepper> for its scheme.
+// The translation units run_<scheme>_fast.cpp and run_<scheme>_general.cpp instantiate
+// run_fast<Stepper> and run_general<Stepper> (eight units compile in parallel).
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -177,8 +178,29 @@ class BatchRunner {
   VEHS_SIM_INLINE bool healthy(const State& s) const { return (s.abs() <= bound()).all(); }
   std::size_t batch_end(std::size_t b) const { return (b + 1) * n_used_ / ctx_.batches; }
 
+  // The fast systems get the hot loops flattened (everything inlined, state in registers); the
+  // general ModelSystem keeps ordinary inlining, which compiles several times faster.
+  void burn(long long k0, long long n) {
+    if constexpr (System::fast_path)
+      burn_flat(k0, n);
+    else
+      burn_plain(k0, n);
+  }
+  std::size_t samples(std::size_t i0, std::size_t i1) {
+    if constexpr (System::fast_path)
+      return samples_flat(i0, i1);
+    else
+      return samples_plain(i0, i1);
+  }
+  VEHS_SIM_FLATTEN VEHS_SIM_NOINLINE void burn_flat(long long k0, long long n) { burn_impl(k0, n); }
+  VEHS_SIM_NOINLINE void burn_plain(long long k0, long long n) { burn_impl(k0, n); }
+  VEHS_SIM_FLATTEN VEHS_SIM_NOINLINE std::size_t samples_flat(std::size_t i0, std::size_t i1) {
+    return samples_impl(i0, i1);
+  }
+  VEHS_SIM_NOINLINE std::size_t samples_plain(std::size_t i0, std::size_t i1) { return samples_impl(i0, i1); }
+
   /// n unrecorded intervals starting at interval index k0 (time k0·dt).
-  VEHS_SIM_FLATTEN VEHS_SIM_NOINLINE void burn(long long k0, long long n) {
+  VEHS_SIM_INLINE void burn_impl(long long k0, long long n) {
     State s = state_;
     const double h = ctx_.h, dt = ctx_.dt;
     for (long long k = 0; k < n; ++k) {
@@ -190,7 +212,7 @@ class BatchRunner {
 
   /// Integrates the intervals ending at samples i0 … i1 − 1 and records them. Returns i1, or
   /// the first sample at which the state left the divergence bound.
-  VEHS_SIM_FLATTEN VEHS_SIM_NOINLINE std::size_t samples(std::size_t i0, std::size_t i1) {
+  VEHS_SIM_INLINE std::size_t samples_impl(std::size_t i0, std::size_t i1) {
     // everything the loop reads is copied into locals: the output stores (double*) would
     // otherwise force reloads of double members after every store
     State s = state_;
@@ -373,23 +395,24 @@ void run_all_with(RunContext& ctx) {
   }
 }
 
-/// Runs every batch with the stepper, choosing the system variant the model needs: the
-/// compile-time-shaped PolynomialSystem for the paper's polynomial family, else ModelSystem
-/// with the hidden states the effects need.
+/// The compile-time-shaped PolynomialSystem for the paper's polynomial family (K = 2 … 6 even
+/// and odd coefficients; a linear restoring force runs with K = 2).
 template <class Stepper>
-void run_all(RunContext& ctx) {
-  const CompiledModel& m = *ctx.model;
-  if (m.fast.eligible) {
-    switch (m.fast.k) {
-      case 1: return run_all_with<Stepper, PolynomialSystem<kLanes, 1>>(ctx);
-      case 2: return run_all_with<Stepper, PolynomialSystem<kLanes, 2>>(ctx);
-      case 3: return run_all_with<Stepper, PolynomialSystem<kLanes, 3>>(ctx);
-      case 4: return run_all_with<Stepper, PolynomialSystem<kLanes, 4>>(ctx);
-      case 5: return run_all_with<Stepper, PolynomialSystem<kLanes, 5>>(ctx);
-      case 6: return run_all_with<Stepper, PolynomialSystem<kLanes, 6>>(ctx);
-      default: break;
-    }
+void run_fast(RunContext& ctx) {
+  switch (ctx.model->fast.k) {
+    case 1:
+    case 2: return run_all_with<Stepper, PolynomialSystem<kLanes, 2>>(ctx);
+    case 3: return run_all_with<Stepper, PolynomialSystem<kLanes, 3>>(ctx);
+    case 4: return run_all_with<Stepper, PolynomialSystem<kLanes, 4>>(ctx);
+    case 5: return run_all_with<Stepper, PolynomialSystem<kLanes, 5>>(ctx);
+    default: return run_all_with<Stepper, PolynomialSystem<kLanes, 6>>(ctx);
   }
+}
+
+/// ModelSystem with the hidden states the model's effects need.
+template <class Stepper>
+void run_general(RunContext& ctx) {
+  const CompiledModel& m = *ctx.model;
   if (m.electro && m.colored)
     run_all_with<Stepper, ModelSystem<kLanes, true, true>>(ctx);
   else if (m.electro)
@@ -400,9 +423,23 @@ void run_all(RunContext& ctx) {
     run_all_with<Stepper, ModelSystem<kLanes, false, false>>(ctx);
 }
 
-extern template void run_all<EulerMaruyamaStepper>(RunContext&);
-extern template void run_all<Rk4EulerStepper>(RunContext&);
-extern template void run_all<BaoabStepper>(RunContext&);
-extern template void run_all<Taylor15Stepper>(RunContext&);
+extern template void run_fast<EulerMaruyamaStepper>(RunContext&);
+extern template void run_fast<Rk4EulerStepper>(RunContext&);
+extern template void run_fast<BaoabStepper>(RunContext&);
+extern template void run_fast<Taylor15Stepper>(RunContext&);
+extern template void run_general<EulerMaruyamaStepper>(RunContext&);
+extern template void run_general<Rk4EulerStepper>(RunContext&);
+extern template void run_general<BaoabStepper>(RunContext&);
+extern template void run_general<Taylor15Stepper>(RunContext&);
+
+/// Runs every batch with the stepper, choosing the system the model needs.
+template <class Stepper>
+void run_all(RunContext& ctx) {
+  if (ctx.model->fast.eligible)
+    run_fast<Stepper>(ctx);
+  else
+    run_general<Stepper>(ctx);
+}
+
 
 }  // namespace vehs::sim::detail

@@ -194,6 +194,11 @@ CompiledModel CompiledModel::from_model(const Model& m, const std::string& where
     for (std::size_t n = 0; n < dc.size(); ++n) f.damping[n] = dc[n];
     for (std::size_t n = 0; n < ac.size(); ++n) f.a22[n] = ac[n];
     for (std::size_t n = 1; n < ac.size(); ++n) f.da22[n - 1] = static_cast<double>(n) * ac[n];
+    for (double c : f.even) f.has_even = f.has_even || c != 0.0;
+    f.damping_poly = f.damping[1] != 0.0 || f.damping[2] != 0.0;
+    f.a22_even2 = f.a22[1] == 0.0 && f.a22[3] == 0.0 && f.a22[4] == 0.0;
+    f.additive = f.a22_even2 && f.a22[2] == 0.0;
+    f.sigma0 = f.additive && f.a22[0] > 0.0 ? std::sqrt(f.a22[0]) : 0.0;
   }
   return cm;
 }

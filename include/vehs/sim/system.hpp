@@ -65,7 +65,7 @@ struct XPolynomial {
 
   /// Value on lanes; x2 = x·x.
   template <class V>
-  VEHS_SIM_INLINE V eval(const V& x, const V& x2) const {
+  V eval(const V& x, const V& x2) const {
     if (odd.empty()) {
       if (even.empty()) return V::Zero(x.rows(), x.cols());
       return horner(even, x2);
@@ -76,7 +76,7 @@ struct XPolynomial {
   /// Σ c[k]·z^k by Horner's rule. Up to 12 coefficients the steps are a straight-line
   /// fall-through sequence (no loop), so the lanes stay in registers.
   template <class V>
-  static VEHS_SIM_INLINE V horner(const std::vector<double>& c, const V& z) {
+  static V horner(const std::vector<double>& c, const V& z) {
     const double* p = c.data();
     const int n = static_cast<int>(c.size());
     if (n > 12) {
@@ -155,6 +155,11 @@ struct CompiledModel {
     std::array<double, 3> damping{};        ///< c0, c1, c2
     std::array<double, 5> a22{};            ///< A(x) = Σ a_n xⁿ
     std::array<double, 5> da22{};           ///< A'(x)
+    bool has_even = false;                  ///< P has even powers
+    bool damping_poly = false;              ///< c1 or c2 non-zero
+    bool a22_even2 = false;                 ///< A(x) = a0 + a2 x²
+    bool additive = false;                  ///< A constant
+    double sigma0 = 0.0;                    ///< sqrt(a0) when additive
   } fast;
 
   /// Builds the compiled form; throws vehs::Error (prefixed with `where`) for models the
@@ -171,9 +176,13 @@ struct Jet {
   V sigma, sigma_x, sigma_y, sigma_yy;  ///< σ = sqrt(a22) and its partial derivatives
 };
 
+/// The general system: any term list and every dynamic effect, evaluated with run-time
+/// dispatch (it need not be as fast as PolynomialSystem; it is compiled with ordinary inlining
+/// to keep build times down).
 template <int L, bool kElectro, bool kColored>
 class ModelSystem {
  public:
+  static constexpr bool fast_path = false;
   static constexpr int lanes = L;
   static constexpr int electro_index = 2;
   static constexpr int colored_index = 2 + (kElectro ? 1 : 0);
@@ -194,7 +203,7 @@ class ModelSystem {
   static constexpr int noise_component(int k) { return k == 0 ? 1 : colored_index; }
 
   /// b2 on lanes.
-  VEHS_SIM_INLINE Lanes b2(double t, const State& s) const {
+  Lanes b2(double t, const State& s) const {
     const Lanes x = s.col(0), y = s.col(1);
     const Lanes x2 = x * x;
     Lanes r = poly_y(m_.drift, x, x2, y);
@@ -202,31 +211,31 @@ class ModelSystem {
     return r;
   }
 
-  VEHS_SIM_INLINE void drift(double t, const State& s, State& f) const {
+  void drift(double t, const State& s, State& f) const {
     f.col(0) = s.col(1);
     f.col(1) = b2(t, s);
     if constexpr (kElectro) f.col(electro_index) = s.col(1) - m_.lambda * s.col(electro_index);
     if constexpr (kColored) f.col(colored_index) = -s.col(colored_index) / m_.tau;
   }
 
-  VEHS_SIM_INLINE Lanes sigma(const State& s) const {
+  Lanes sigma(const State& s) const {
     if (m_.additive_noise) return Lanes::Constant(m_.constant_sigma);
     const Lanes x = s.col(0), y = s.col(1);
     const Lanes x2 = x * x;
     return poly_y(m_.diffusion, x, x2, y).sqrt();
   }
 
-  VEHS_SIM_INLINE void noise(const State& s, Noise& g) const {
+  void noise(const State& s, Noise& g) const {
     g.col(0) = sigma(s);
     if constexpr (kColored) g.col(1) = Lanes::Constant(std::sqrt(m_.intensity) / m_.tau);
   }
 
   double linear_damping() const { return m_.beta; }
   /// b2 + β·y: the force BAOAB applies in its kicks.
-  VEHS_SIM_INLINE Lanes force_nl(double t, const State& s) const { return b2(t, s) + m_.beta * s.col(1); }
+  Lanes force_nl(double t, const State& s) const { return b2(t, s) + m_.beta * s.col(1); }
 
   /// Exact flow of the electromechanical state over time h with y frozen.
-  VEHS_SIM_INLINE void hidden_half_flow(State& s, double h) const {
+  void hidden_half_flow(State& s, double h) const {
     if constexpr (kElectro) {
       const double decay = std::exp(-m_.lambda * h);
       const double gain = -std::expm1(-m_.lambda * h) / m_.lambda;
@@ -238,7 +247,7 @@ class ModelSystem {
   }
 
   /// Exact Ornstein–Uhlenbeck step of η over time h with the standard normal xi.
-  VEHS_SIM_INLINE void colored_exact(State& s, double h, const Lanes& xi) const {
+  void colored_exact(State& s, double h, const Lanes& xi) const {
     if constexpr (kColored) {
       const double decay = std::exp(-h / m_.tau);
       const double sd = std::sqrt(m_.intensity / (2.0 * m_.tau) * -std::expm1(-2.0 * h / m_.tau));
@@ -250,7 +259,7 @@ class ModelSystem {
     }
   }
 
-  VEHS_SIM_INLINE Jet<Lanes> jet(double t, const State& s) const {
+  Jet<Lanes> jet(double t, const State& s) const {
     Jet<Lanes> j;
     const Lanes x = s.col(0), y = s.col(1);
     const Lanes x2 = x * x;
@@ -284,7 +293,7 @@ class ModelSystem {
   }
 
  private:
-  static VEHS_SIM_INLINE Lanes poly_y(const YXPolynomial& p, const Lanes& x, const Lanes& x2,
+  static Lanes poly_y(const YXPolynomial& p, const Lanes& x, const Lanes& x2,
                                       const Lanes& y) {
     const int J = p.max_ypow();
     Lanes r;
@@ -305,7 +314,7 @@ class ModelSystem {
     return r;
   }
 
-  VEHS_SIM_INLINE void add_nonpoly(Lanes& r, double t, const State& s, const Lanes& x) const {
+  void add_nonpoly(Lanes& r, double t, const State& s, const Lanes& x) const {
     if (!m_.has_extras) return;
     if (m_.drift.drive != 0.0) r += m_.drift.drive * u_;  // held over the interval: ∂_t = 0
     if (m_.impact) r -= m_.k_stop * ((x - m_.gap).max(0.0) + (x + m_.gap_neg).min(0.0));
@@ -327,6 +336,7 @@ class ModelSystem {
 template <int L, int K>
 class PolynomialSystem {
  public:
+  static constexpr bool fast_path = true;
   static constexpr int lanes = L;
   static constexpr int electro_index = 2;
   static constexpr int colored_index = 2;
@@ -349,25 +359,35 @@ class PolynomialSystem {
     for (int k = static_cast<int>(N) - 2; k >= 0; --k) r = r * z + c[static_cast<std::size_t>(k)];
     return r;
   }
+  // Parts that are zero for a model are skipped by branches that are the same for every step
+  // (perfectly predicted): an odd potential needs no even part, linear damping no polynomial,
+  // additive noise no square root.
   VEHS_SIM_INLINE Lanes restoring(const Lanes& x, const Lanes& x2) const {
-    return horner<K>(f_.even, x2) + x * horner<K>(f_.odd, x2);
+    if (f_.has_even) return horner<K>(f_.even, x2) + x * horner<K>(f_.odd, x2);
+    return x * horner<K>(f_.odd, x2);
   }
   VEHS_SIM_INLINE Lanes damping(const Lanes& x) const {
-    return (f_.damping[2] * x + f_.damping[1]) * x + f_.damping[0];
+    if (f_.damping_poly) return (f_.damping[2] * x + f_.damping[1]) * x + f_.damping[0];
+    return Lanes::Constant(f_.damping[0]);
   }
   VEHS_SIM_INLINE Lanes a22(const Lanes& x) const {
+    if (f_.a22_even2) return f_.a22[2] * x * x + f_.a22[0];
     return (((f_.a22[4] * x + f_.a22[3]) * x + f_.a22[2]) * x + f_.a22[1]) * x + f_.a22[0];
   }
 
   VEHS_SIM_INLINE Lanes b2(double, const State& s) const {
     const Lanes x = s.col(0);
-    return restoring(x, x * x) + damping(x) * s.col(1);
+    if (f_.damping_poly) return restoring(x, x * x) + damping(x) * s.col(1);
+    return restoring(x, x * x) + f_.damping[0] * s.col(1);
   }
   VEHS_SIM_INLINE void drift(double t, const State& s, State& f) const {
     f.col(0) = s.col(1);
     f.col(1) = b2(t, s);
   }
-  VEHS_SIM_INLINE Lanes sigma(const State& s) const { return a22(s.col(0)).sqrt(); }
+  VEHS_SIM_INLINE Lanes sigma(const State& s) const {
+    if (f_.additive) return Lanes::Constant(f_.sigma0);
+    return a22(s.col(0)).sqrt();
+  }
   VEHS_SIM_INLINE void noise(const State& s, Noise& g) const { g.col(0) = sigma(s); }
   double linear_damping() const { return -f_.damping[0]; }
   VEHS_SIM_INLINE Lanes force_nl(double t, const State& s) const { return b2(t, s) - f_.damping[0] * s.col(1); }

@@ -1,0 +1,7 @@
+// Instantiates the engine's general path for one scheme (one translation unit each keeps builds
+// parallel and each unit small).
+#include "engine.hpp"
+
+namespace vehs::sim::detail {
+template void run_general<EulerMaruyamaStepper>(RunContext&);
+}  // namespace vehs::sim::detail
