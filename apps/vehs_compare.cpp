@@ -88,6 +88,25 @@ int run(vehs::Config& c, const vehs::AppOptions&) {
     std::printf("%-16s %11s %11s %24s %10s %9s\n", n.c_str(), tvs, rvs, learned_text, dev, rel);
     table.add_row(n, {tv, rv, has ? lv : NAN, se});
   }
+  if (truth) {
+    auto support = [](const vehs::TermList& terms) {
+      std::set<std::string> s;
+      for (const auto& t : terms)
+        if (t.coef != 0.0) s.insert(t.term.name());
+      return s;
+    };
+    auto joined = [](const std::set<std::string>& s) {
+      std::string r;
+      for (const auto& n : s) r += (r.empty() ? "" : ", ") + n;
+      return r;
+    };
+    const bool same_drift = support(learned.drift) == support(truth->drift);
+    const bool same_diffusion = support(learned.diffusion) == support(truth->diffusion);
+    std::printf("\nselected drift terms:     %s  (%s)\n", joined(support(learned.drift)).c_str(),
+                same_drift ? "exactly the true ones" : "differs from the truth");
+    std::printf("selected diffusion terms: %s  (%s)\n", joined(support(learned.diffusion)).c_str(),
+                same_diffusion ? "exactly the true ones" : "differs from the truth");
+  }
   if (c.has("fpk") || c.has("monte_carlo")) {
     std::printf("\nStationary response of the learned model (mean power E(P) is proportional to E[Y^2]):\n");
     nlohmann::json fpk, mc;
