@@ -8,6 +8,10 @@ packages=(
   libeigen3-dev libsuitesparse-dev nlohmann-json3-dev catch2
   libcli11-dev libfast-float-dev libbenchmark-dev
   gnuplot-nox chromium
+  # an optimised BLAS for UMFPACK's dense kernels (Debian's BLAS alternative: libsuitesparse
+  # links libblas.so.3, which this package provides with priority over the reference BLAS;
+  # the serial variant, because vehs parallelises over sweep points itself)
+  libopenblas0-serial
 )
 
 missing=()
