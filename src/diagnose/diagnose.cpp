@@ -12,6 +12,7 @@
 
 #include "twins.hpp"
 #include "unit_stats.hpp"
+#include "vehs/diagnose/distributions.hpp"
 #include "vehs/conventions.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/core/progress.hpp"
@@ -188,6 +189,7 @@ Pilot sampling_pilot(const Model& model, const Dataset& data) {
   o.drift_library = terms_of(model.drift);
   o.diffusion_library = terms_of(model.diffusion);
   o.sparsity = identify::Sparsity::None;
+  o.folds = 1;
   o.estimator = identify::Estimator::Auto;
   o.progress = false;
   try {
@@ -599,6 +601,25 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
     });
     if (idx.size() > 10) idx.resize(10);
     mp.worst = idx;
+    auto profile = [&](bool over_v, bool mean_z) {
+      const int n = over_v ? setup.nv : setup.nx;
+      std::vector<double> s2(static_cast<std::size_t>(n), 0.0), cnt(static_cast<std::size_t>(n), 0.0);
+      for (int b = 0; b < B; ++b) {
+        const MapBin& mb = mp.bins[static_cast<std::size_t>(b)];
+        if (!mb.used) continue;
+        const auto k = static_cast<std::size_t>(over_v ? b % setup.nv : b / setup.nv);
+        const double z = mean_z ? mb.z_mean : mb.z_var;
+        s2[k] += z * z;
+        cnt[k] += 1.0;
+      }
+      for (std::size_t k = 0; k < s2.size(); ++k)
+        s2[k] = cnt[k] > 0 ? s2[k] / cnt[k] : std::numeric_limits<double>::quiet_NaN();
+      return s2;
+    };
+    mp.v_profile_mean = profile(true, true);
+    mp.v_profile_var = profile(true, false);
+    mp.x_profile_mean = profile(false, true);
+    mp.x_profile_var = profile(false, false);
   }
 
   // ---- paired components: per-unit difference vectors f(a, b) (false when undefined)
@@ -677,7 +698,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
   lap(res, "tests_setup");
 
   // ---- the model's parameter uncertainty: refit on pseudo-data, resimulate with common random numbers
-  std::vector<Eigen::MatrixXd> extra(paired.size());
+  std::vector<ExtraCovariance> extra(paired.size());
   int draws = 0;
   {
     const bool fitted = !model.drift_stderr.empty() || !model.diffusion_stderr.empty();
@@ -703,6 +724,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
       io.drift_library = terms_of(model.drift);
       io.diffusion_library = terms_of(model.diffusion);
       io.sparsity = identify::Sparsity::None;
+      io.folds = 1;  // no cross-validation: the support is fixed
       if (lens.kinematics == Kinematics::Forward) {
         io.estimator = identify::Estimator::Forward;
       } else {
@@ -712,8 +734,12 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
       detail::TwinSettings ps = ts;
       ps.seed = ts.seed ^ 0x5EED5EED5EEDull;
       detail::TwinSimulator pseudo_sim(model, sub, ps);
-      std::vector<Eigen::MatrixXd> acc(paired.size());
-      for (std::size_t k = 0; k < paired.size(); ++k) acc[k] = Eigen::MatrixXd::Zero(paired[k].p, paired[k].p);
+      std::vector<Eigen::MatrixXd> acc(paired.size()), acc_within(paired.size());
+      std::vector<double> acc_units(paired.size(), 0.0);
+      for (std::size_t k = 0; k < paired.size(); ++k) {
+        acc[k] = Eigen::MatrixXd::Zero(paired[k].p, paired[k].p);
+        acc_within[k] = acc[k];
+      }
       Dataset pseudo, star_twin;
       std::vector<UnitStats> star(units.size());
       Progress pprog("parameter draws", opt.parameter_draws, opt.progress);
@@ -737,7 +763,9 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
             const Eigen::VectorXd e = De.colwise().mean().transpose();
             const Eigen::MatrixXd Ce = De.rowwise() - e.transpose();
             const double n = static_cast<double>(De.rows());
-            acc[k] += e * e.transpose() - (Ce.transpose() * Ce) / ((n - 1.0) * n);
+            acc[k] += e * e.transpose();
+            acc_within[k] += (Ce.transpose() * Ce) / ((n - 1.0) * n);
+            acc_units[k] += n;
           }
           ++draws;
           pprog.advance();
@@ -751,9 +779,14 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
       if (draws > 0)
         for (std::size_t k = 0; k < paired.size(); ++k) {
           if (!paired[k].parameter_sensitive) continue;
-          Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(acc[k] * (scale / draws));
-          Eigen::VectorXd lam = es.eigenvalues().cwiseMax(0.0);
-          extra[k] = es.eigenvectors() * lam.asDiagonal() * es.eigenvectors().transpose();
+          // the refits used `scale` times the data's samples: their parameter covariance is 1/scale
+          // times the data's
+          ExtraCovariance ec;
+          ec.second_moment = acc[k] / draws;
+          ec.within = acc_within[k] / draws;
+          ec.draws = draws;
+          ec.units = acc_units[k] / draws;
+          extra[k] = ec.scaled(scale);
         }
       res.parameter_draws = draws;
       res.parameter_fit_samples = sub.x.size();
@@ -765,7 +798,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
     const Eigen::MatrixXd Dm = unit_diffs(paired[k].f, dstats, tstats, paired[k].p);
     const bool with = draws > 0 && paired[k].parameter_sensitive;
     res.components.push_back({paired[k].name, paired[k].what,
-                              hotelling_zero_mean(Dm, 1e-9, with ? &extra[k] : nullptr, with ? draws : 0.0)});
+                              hotelling_zero_mean(Dm, 1e-9, with ? &extra[k] : nullptr)});
   }
 
   // ---- quantities for the table
@@ -957,6 +990,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
     if (c.test.available) {
       bad = bad || c.test.p_value < res.threshold;
       res.score += c.test.excess;
+      res.score_expected_adequate += chi2_sf(c.test.dof, c.test.dof + 2.0) - chi2_sf(c.test.dof, c.test.dof);
     }
   res.verdict = bad ? "inadequate" : "adequate";
   if (available == 0) res.warnings.push_back("no test could be computed: the verdict rests on nothing");

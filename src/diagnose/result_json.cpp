@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include "vehs/diagnose/diagnose.hpp"
@@ -37,6 +38,7 @@ nlohmann::ordered_json Result::to_json() const {
       "sum over the available components of max(0, chi2/dof - 1), chi2 the chi-square quantile "
       "(dof degrees of freedom) of the component's p-value: about 0 for an adequate model, growing "
       "with the misfit and the amount of data; lower is better";
+  j["score_expected_if_adequate"] = score_expected_adequate;
   j["verdict_rule"] = "inadequate when a component's p-value is below alpha / (available components)";
   j["threshold"] = threshold;
   J tests = J::object();
@@ -88,9 +90,31 @@ nlohmann::ordered_json Result::to_json() const {
   }
   int used = 0;
   for (const auto& b : map.bins) used += b.used;
-  j["one_step_map"] = {{"bins_x", map.nx}, {"bins_v", map.nv}, {"x_range", {map.x_lo, map.x_hi}},
-                       {"v_range", {map.v_lo, map.v_hi}}, {"bins_used", used},
-                       {"worst_bins", worst}};
+  auto vec = [](const std::vector<double>& v) {
+    J a = J::array();
+    for (double x : v) a.push_back(std::isfinite(x) ? J(x) : J());
+    return a;
+  };
+  auto argmax = [](const std::vector<double>& v) {
+    int k = -1;
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (std::isfinite(v[i]) && (k < 0 || v[i] > v[static_cast<std::size_t>(k)])) k = static_cast<int>(i);
+    return k;
+  };
+  const double wx = (map.x_hi - map.x_lo) / std::max(map.nx, 1), wv = (map.v_hi - map.v_lo) / std::max(map.nv, 1);
+  const int km = argmax(map.v_profile_mean), kx = argmax(map.x_profile_mean);
+  j["one_step_map"] = {
+      {"bins_x", map.nx}, {"bins_v", map.nv}, {"x_range", {map.x_lo, map.x_hi}},
+      {"v_range", {map.v_lo, map.v_hi}}, {"bins_used", used},
+      {"worst_bins", worst},
+      {"failure_region",
+       {{"v_column_center", km >= 0 ? J(map.v_lo + (km + 0.5) * wv) : J()},
+        {"x_row_center", kx >= 0 ? J(map.x_lo + (kx + 0.5) * wx) : J()},
+        {"explanation", "centres of the v column and x row with the largest mean z^2 of the residual mean"}}},
+      {"v_profile_mean_z2", vec(map.v_profile_mean)},
+      {"v_profile_var_z2", vec(map.v_profile_var)},
+      {"x_profile_mean_z2", vec(map.x_profile_mean)},
+      {"x_profile_var_z2", vec(map.x_profile_var)}};
   J q = J::array();
   for (const auto& x : quantities)
     q.push_back({{"name", x.name}, {"data", num(x.data)}, {"data_se", num(x.data_se)}, {"twin", num(x.twin)},

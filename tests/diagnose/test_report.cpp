@@ -7,31 +7,12 @@
 #include <fstream>
 #include <sstream>
 
+#include "chromium.hpp"
 #include "vehs/diagnose/report.hpp"
 
 namespace fs = std::filesystem;
 
-namespace {
-// Renders the page in headless Chromium and returns the text of #figure-status after load.
-std::string chromium_figure_status(const std::string& html) {
-  const std::string profile = (fs::temp_directory_path() / "vehs_chromium_profile").string();
-  fs::remove_all(profile);
-  const std::string out = (fs::temp_directory_path() / "vehs_dom.html").string();
-  const std::string cmd =
-      "chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
-      "--disable-background-networking --disable-component-update --disable-sync "
-      "--user-data-dir=" + profile + " --virtual-time-budget=5000 --dump-dom 'file://" +
-      fs::absolute(html).string() + "' > " + out + " 2>/dev/null";
-  if (std::system(cmd.c_str()) != 0) return "chromium failed";
-  std::ifstream in(out);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string dom = ss.str();
-  const auto p = dom.find("figures-loaded:");
-  if (p == std::string::npos) return "no status";
-  return dom.substr(p, dom.find('<', p) - p);
-}
-}  // namespace
+using diag_test::chromium_figure_status;
 
 TEST_CASE("the HTML report embeds every figure and they load in headless Chromium", "[report]") {
   const std::string folder = (fs::temp_directory_path() / "vehs_report_test").string();

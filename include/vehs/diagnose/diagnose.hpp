@@ -114,6 +114,10 @@ struct OneStepMap {
   double x_lo = 0, x_hi = 0, v_lo = 0, v_hi = 0;  ///< rows outside go to the edge bins
   std::vector<MapBin> bins;                      ///< bins[i * nv + j], i over x
   std::vector<int> worst;                        ///< indices of the largest |z_mean|, descending
+  /// Where the failure is: mean of z² over the used bins of every v column / x row, for the
+  /// residual mean (z_mean) and log-variance (z_var); NaN where no bin is used. ≈ 1 everywhere
+  /// for an adequate model.
+  std::vector<double> v_profile_mean, v_profile_var, x_profile_mean, x_profile_var;
 };
 
 /// A curve of the data and its twins with standard errors from the spread over units.
@@ -149,6 +153,9 @@ struct SamplingInfo {
 struct Result {
   std::string verdict;  ///< "adequate" | "inadequate"
   double score = 0.0;
+  /// Expected score of an adequate model with the same components:
+  /// Σ E[max(0, χ²_k/k − 1)] = Σ [P(χ²_{k+2} > k) − P(χ²_k > k)] (a reading aid for `score`).
+  double score_expected_adequate = 0.0;
   std::vector<Component> components;
   double threshold = 0.0;  ///< per-component p-value threshold (alpha / components)
   Lens lens;
