@@ -205,6 +205,57 @@ Pilot sampling_pilot(const Model& model, const Dataset& data) {
   return p;
 }
 
+/// The sampling diagnosis for a model WITH dynamic effects, from the model's own one-step
+/// residuals. identify's pilot fits only the model's terms, so the forces of stops, forcing or a
+/// hidden state stay in its residuals and their memory reads as sensor noise. Here the residuals
+/// e = â − b2 (ULI kinematics at stride 1, b2 including the explicit forces) are used, and the
+/// slowly varying part that hidden states leave is removed by differencing the autocorrelations:
+/// for a continuous-time process sampled without noise ρ₁ = 1/4, ρ₂ = ρ₃ = 0; white sensor noise
+/// of share η adds −(2/3)η to ρ₁ and η/6 to ρ₂ but nothing at lag 3; a smooth hidden force adds
+/// about the same to every small lag. So η = 6(ρ₂ − ρ₃) and the continuous-time test uses ρ₁ − ρ₃,
+/// with identify's decision rule.
+Pilot model_sampling_pilot(const Model& model, const Dataset& data) {
+  Pilot p;
+  Lens L;
+  L.kinematics = Kinematics::Central;
+  L.stride = 1;
+  L.dt = data.common_dt();
+  const ModelLens ml(model, L);
+  const std::size_t cap = std::max<std::size_t>(4000, 600000 / std::max<std::size_t>(1, data.records.size()));
+  double c[4] = {0, 0, 0, 0};
+  std::vector<double> e;
+  for (const auto& r : data.records) {
+    const std::size_t n = std::min(r.size, cap);
+    if (n < 16) continue;
+    const double* x = data.x_of(r);
+    const double* u = data.has_u() ? data.u_of(r) : nullptr;
+    e.clear();
+    for (std::size_t i = L.lead(); i + L.trail() < n; ++i) {
+      double xi, v, a;
+      L.at(x, i, xi, v, a);
+      e.push_back(a - ml.b2(xi, v, u ? u[i] : 0.0, r.t0 + static_cast<double>(i) * L.dt));
+    }
+    for (int l = 0; l < 4; ++l)
+      for (std::size_t i = 0; i + static_cast<std::size_t>(l) < e.size(); ++i) c[l] += e[i] * e[i + static_cast<std::size_t>(l)];
+  }
+  if (!(c[0] > 0.0) || !std::isfinite(c[0])) {
+    p.error = "no usable rows for the sampling diagnosis";
+    return p;
+  }
+  const double rho1 = (c[1] - c[3]) / c[0], rho2 = (c[2] - c[3]) / c[0];
+  const double eta = std::clamp(6.0 * rho2, 0.0, 1.0);
+  const bool continuous = rho1 + (2.0 / 3.0) * eta > (1.0 - eta) / 8.0;
+  p.ok = true;
+  p.verdict = eta > 0.05 ? "noisy" : continuous ? "continuous-time" : "scheme-consistent";
+  p.estimator = eta > 0.05 ? "noisy" : continuous ? "uli" : "forward";
+  p.stride = 1;
+  double rows = 0.0;
+  for (const auto& r : data.records) rows += static_cast<double>(L.rows(std::min(r.size, cap)));
+  const double h = L.h();
+  p.sensor_noise_sd = eta > 0.05 ? std::sqrt(eta * (c[0] / rows) * h * h * h * h / 6.0) : 0.0;
+  return p;
+}
+
 }  // namespace
 
 Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
@@ -242,7 +293,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
                 "sampled like the model's, or set check_model_sampling to false");
 
   // ---- the data's own sampling diagnosis (identify's pilot, model terms as the library)
-  const Pilot pilot = sampling_pilot(model, data);
+  const Pilot pilot = model.has_dynamic_effects() ? model_sampling_pilot(model, data) : sampling_pilot(model, data);
   si.data_verdict = pilot.ok ? pilot.verdict : "";
   if (!pilot.ok)
     res.warnings.push_back("the sampling diagnosis of the data failed (" + pilot.error +
@@ -354,6 +405,9 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
     setup.v_lo = quantile(b, 0.002), setup.v_hi = quantile(b, 0.998);
     if (!(setup.x_hi > setup.x_lo)) setup.x_hi = setup.x_lo + 1e-9;
     if (!(setup.v_hi > setup.v_lo)) setup.v_hi = setup.v_lo + 1e-9;
+    setup.shape_xc = 0.5 * (setup.x_lo + setup.x_hi);
+    setup.shape_xs = 0.25 * (setup.x_hi - setup.x_lo);
+    setup.shape_vs = 0.25 * (setup.v_hi - setup.v_lo);
     const double xa = quantile(a, 0.0005), xb = quantile(a, 0.9995);
     const double va = quantile(b, 0.0005), vb = quantile(b, 0.9995);
     const double wx = std::max(xb - xa, 1e-9), wv = std::max(vb - va, 1e-9);
@@ -660,6 +714,23 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
     bool parameter_sensitive;  ///< the model's parameter uncertainty moves it (stationary, x spectrum)
   };
   std::vector<Paired> paired;
+  auto shape_fn = [&](bool noise) -> DiffFn {
+    return [noise](const UnitStats& a, const UnitStats& b, Eigen::VectorXd& d) {
+      if (!(a.rows > 0 && b.rows > 0)) return false;
+      const auto& sa = noise ? a.noise_shape : a.drift_shape;
+      const auto& sb = noise ? b.noise_shape : b.drift_shape;
+      for (std::size_t k = 0; k < sa.size(); ++k) d[static_cast<Eigen::Index>(k)] = sa[k] / a.rows - sb[k] / b.rows;
+      return true;
+    };
+  };
+  paired.push_back({"drift_shape",
+                    "mean of the whitened residual times low-order functions of (x, v) (polynomials to third order, "
+                    "sign(v), v|v|): smooth misfits of the drift such as missing damping or stiffness terms",
+                    shape_fn(false), detail::kDriftShape, false});
+  paired.push_back({"noise_shape",
+                    "mean of the squared whitened residual times polynomials of (x, v) to second order: a22 with the "
+                    "wrong dependence on x or v (e.g. velocity-dependent noise)",
+                    shape_fn(true), detail::kNoiseShape, false});
   paired.push_back({"residual_spectrum",
                     "log spectrum of the whitened residuals in log-spaced frequency bands (memory, periodic forcing)",
                     spectrum_fn(edges_r, true), static_cast<int>(edges_r.size()) - 1, false});

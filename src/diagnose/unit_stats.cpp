@@ -11,6 +11,8 @@ void UnitStats::init(const StatsSetup& s) {
   replicates = 0.0;
   map.assign(static_cast<std::size_t>(s.map_bins()) * 5, 0.0);
   rows = r1 = r2 = invalid_rows = 0.0;
+  drift_shape.assign(kDriftShape, 0.0);
+  noise_shape.assign(kNoiseShape, 0.0);
   racf.assign(s.lags_r + 1, 0.0);
   racf_n.assign(s.lags_r + 1, 0.0);
   rpsd.assign(s.seg_r / 2 + 1, 0.0);
@@ -41,6 +43,8 @@ void UnitStats::add(const UnitStats& o) {
   rows += o.rows;
   r1 += o.r1;
   r2 += o.r2;
+  add_to(drift_shape, o.drift_shape);
+  add_to(noise_shape, o.noise_shape);
   invalid_rows += o.invalid_rows;
   add_to(racf, o.racf);
   add_to(racf_n, o.racf_n);
@@ -89,6 +93,10 @@ void compute_unit(const StatsSetup& s, const double* x, const double* u, std::si
       mb[4] += r2 * r2;
       out.r1 += ri;
       out.r2 += r2;
+      double f[kDriftShape];
+      shape_basis((xi - s.shape_xc) / s.shape_xs, v / s.shape_vs, f);
+      for (int k = 0; k < kDriftShape; ++k) out.drift_shape[static_cast<std::size_t>(k)] += ri * f[k];
+      for (int k = 0; k < kNoiseShape; ++k) out.noise_shape[static_cast<std::size_t>(k)] += r2 * f[k];
       out.rows += 1.0;
     } else if (!stationary_only) {
       out.invalid_rows += 1.0;

@@ -1,5 +1,6 @@
 #pragma once
 // Per-unit statistics of diagnose-vehs (private): the one code path that runs on data and twins.
+#include <cmath>
 #include <cstddef>
 #include <limits>
 #include <vector>
@@ -39,6 +40,10 @@ struct StatsSetup {
   std::size_t x_decimation = 1;
   double dt_x() const { return dt * static_cast<double>(x_decimation); }
 
+  // smooth shape of the residual mean and variance: projections on low-order functions of the
+  // standardised state x̃ = (x − shape_xc)/shape_xs, ṽ = v/shape_vs (see shape_basis)
+  double shape_xc = 0.0, shape_xs = 1.0, shape_vs = 1.0;
+
   int map_bins() const { return nx * nv; }
   int cells() const { return static_cast<int>((cell_x.size() + 1) * (cell_v.size() + 1)); }
   int wells() const { return static_cast<int>(core_lo.size()); }
@@ -51,12 +56,26 @@ struct StatsSetup {
   }
 };
 
+/// Functions of the standardised state on which the residual mean is projected (drift shape:
+/// polynomials to third order, sign(ṽ) and ṽ|ṽ| — the forms of the term-like effects) and the
+/// residual square (noise shape: polynomials to second order).
+inline constexpr int kDriftShape = 12, kNoiseShape = 6;
+inline void shape_basis(double x, double v, double* f) {
+  const double x2 = x * x, v2 = v * v;
+  f[0] = 1.0, f[1] = x, f[2] = v, f[3] = x2, f[4] = x * v, f[5] = v2;
+  f[6] = x2 * x, f[7] = x2 * v, f[8] = x * v2, f[9] = v2 * v;
+  f[10] = v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0);
+  f[11] = v * std::abs(v);
+}
+
 /// Additive statistics of one unit (twins: summed over replicates; `replicates` counts them).
 struct UnitStats {
   double replicates = 0.0;
   // one-step map: per bin n, Σr, Σr², Σr³, Σr⁴ (layout [bin * 5 + m])
   std::vector<double> map;
   double rows = 0.0, r1 = 0.0, r2 = 0.0;
+  // Σ r·f_k (k < kDriftShape) and Σ r²·f_k (k < kNoiseShape) over the rows (shape_basis)
+  std::vector<double> drift_shape, noise_shape;
   double invalid_rows = 0.0;  // rows where the model's residual variance is not positive
   // residual autocovariance sums Σ r_i r_{i+l} and pair counts, l = 0..lags_r
   std::vector<double> racf, racf_n;
