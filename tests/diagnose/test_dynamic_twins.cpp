@@ -116,7 +116,7 @@ TEST_CASE("with dynamic effects, a wrong forcing phase (time origin ignored) and
 
 // Exploration aid (not run by ctest): VEHS_DT_KEEP = comma-separated effect names to keep,
 // VEHS_DT_T0 = 1 to stamp absolute t0s.
-TEST_CASE("dynamic twins explore", "[.][explore_dt]") {
+TEST_CASE("dynamic twins explore", "[.][bench][explore_dt]") {
   const char* keep = std::getenv("VEHS_DT_KEEP");
   if (!keep) return;
   const std::string k = keep;
