@@ -9,7 +9,7 @@
 # Outputs go to out/paper/.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-"$root/scripts/build.sh"
+"$root/scripts/build.sh" simulate-vehs identify-vehs fpk-stationary vehs-compare
 cd "$root"
 bin="$root/build"
 mkdir -p out/paper

@@ -10,7 +10,7 @@
 # Builds first (installing what is missing). Outputs go to out/missing_physics/.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-"$root/scripts/build.sh" >/dev/null
+"$root/scripts/build.sh" simulate-vehs identify-vehs diagnose-vehs vehs-compare >/dev/null
 cd "$root"
 bin="$root/build"
 d=data/missing_physics
