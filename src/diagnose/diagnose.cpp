@@ -775,9 +775,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
     const bool fitted = !model.drift_stderr.empty() || !model.diffusion_stderr.empty();
     const bool use = opt.parameter_uncertainty == ParameterUncertainty::On ||
                      (opt.parameter_uncertainty == ParameterUncertainty::Auto && fitted);
-    if (use && model.has_dynamic_effects()) {
-      res.warnings.push_back("the model's parameter uncertainty is not propagated: identify cannot refit its dynamic effects");
-    } else if (use) {
+    if (use) {
       // pseudo-data: twins of the first records, at most parameter_fit_samples samples
       Dataset sub;
       for (const auto& r : data.records) {
@@ -801,6 +799,13 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
       } else {
         io.estimator = lens.sensor_noise_sd > 0 ? identify::Estimator::Noisy : identify::Estimator::Uli;
         io.stride = lens.stride;
+      }
+      // dynamic effects are refitted with all their parameters free (an identify that cannot fit
+      // one throws, and the warning below says the uncertainty is not propagated)
+      for (const auto& e : model.effects) {
+        Effect free;
+        free.id = e.id;
+        io.effects.push_back(free);
       }
       detail::TwinSettings ps = ts;
       ps.seed = ts.seed ^ 0x5EED5EED5EEDull;

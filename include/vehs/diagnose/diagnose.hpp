@@ -9,9 +9,18 @@
 //     sampling interval, initial displacement and velocity, drive and measurement process (the
 //     sampling diagnosis: scheme-consistent data → the paper's rk4_euler at the recorded step;
 //     continuous-time data → taylor15 on a fine substep; noisy data → plus white sensor noise).
+//     Dynamic effects are simulated with the twins: harmonic forcing in the records' absolute
+//     time (t0 of each record), the electrical state from 0 and the coloured excitation from its
+//     stationary law at every record's start (as vehs::sim does). For a model with dynamic
+//     effects the sampling diagnosis uses the model's own residuals (see diagnose.cpp).
 //  3. The IDENTICAL statistics code runs on data and twins, per unit (record, or time block of
 //     a record when there are fewer than min_units records), and the units are compared in pairs:
 //       one_step           residual mean and variance in (x, v̂) bins (the failure map);
+//       drift_shape        residual mean times low-order functions of (x, v̂) (polynomials to third
+//                          order, sign(v̂), v̂|v̂|): smooth drift misfits — missing damping forms,
+//                          stiffness terms — that the bin-wise map dilutes over hundreds of bins;
+//       noise_shape        squared residual times polynomials of (x, v̂) to second order: a22 with
+//                          the wrong dependence on x or v̂;
 //       residual_spectrum  band-averaged log spectrum of the residuals (memory, periodic forcing);
 //       pdf                occupation of coarse (x, v̂) cells (shape of p(x, v̂));
 //       power              log E[X²] and log E[v̂²] (v̂ the lens velocity: the mean power);
