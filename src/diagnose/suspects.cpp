@@ -7,6 +7,7 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/core/progress.hpp"
+#include "vehs/identify/dynamic.hpp"
 #include "vehs/identify/identify.hpp"
 
 namespace vehs::diagnose {
@@ -17,14 +18,9 @@ const std::vector<SuspectEntry>& suspect_table() {
       {EffectId::CoulombFriction, SuspectMethod::DriftTerms, ""},
       {EffectId::QuadraticDamping, SuspectMethod::DriftTerms, ""},
       {EffectId::NonlinearDamping, SuspectMethod::DriftTerms, ""},
-      {EffectId::ImpactStop, SuspectMethod::NotYet,
-       "dynamic effect: identify cannot fit impact stops yet (the one-step map shows their "
-       "signature at the largest |x|)"},
-      {EffectId::HarmonicForcing, SuspectMethod::NotYet,
-       "dynamic effect: identify cannot fit harmonic forcing yet (a line in the residual "
-       "spectrum is its signature)"},
-      {EffectId::ElectromechanicalCoupling, SuspectMethod::NotYet,
-       "hidden state: identify cannot fit it yet (slow residual memory is its signature)"},
+      {EffectId::ImpactStop, SuspectMethod::DynamicForce, ""},
+      {EffectId::HarmonicForcing, SuspectMethod::DynamicForce, ""},
+      {EffectId::ElectromechanicalCoupling, SuspectMethod::DynamicForce, ""},
       {EffectId::ColoredNoise, SuspectMethod::NotYet,
        "hidden state: identify cannot fit it yet (low-frequency excess in the residual "
        "spectrum is its signature)"},
@@ -102,14 +98,13 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
     }
     candidates.push_back(&e);
   }
-  if (model.has_dynamic_effects()) {
-    std::string names;
-    for (const auto& e : model.effects) names += (names.empty() ? "" : ", ") + e.name();
-    rep.note = "the model has dynamic effects (" + names +
-               ") that identify cannot refit yet, so the baseline of the suspects cannot be fitted";
-    for (const auto* c : candidates) rep.untested.emplace_back(enum_to_string(kEffectNames, c->id), rep.note);
-    return rep;
-  }
+  for (const auto& e : model.effects)
+    if (!identify::dynamic_fit_supported(e.id)) {
+      rep.note = "the model has the dynamic effect " + e.name() +
+                 ", which identify cannot refit yet, so the baseline of the suspects cannot be fitted";
+      for (const auto* c : candidates) rep.untested.emplace_back(enum_to_string(kEffectNames, c->id), rep.note);
+      return rep;
+    }
   if (model.drift.empty()) {
     rep.note = "the model has no drift terms to refit";
     return rep;
@@ -121,6 +116,12 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
   io.drift_library = terms_of(model.drift);
   io.diffusion_library = terms_of(model.diffusion);
   io.sparsity = identify::Sparsity::None;
+  for (const auto& e : model.effects) {
+    Effect refit;  // the model's dynamic effects are refitted (all params free)
+    refit.id = e.id;
+    io.effects.push_back(refit);
+  }
+  io.folds = 1;  // no cross-validation: the support is fixed
   io.progress = false;
   if (lens.kinematics == Kinematics::Forward) {
     io.estimator = identify::Estimator::Forward;
@@ -145,24 +146,33 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
   prog.advance();
   for (const auto* c : candidates) {
     const std::string name = enum_to_string(kEffectNames, c->id);
-    Effect unit;
-    unit.id = c->id;
-    for (const auto& ps : effect_spec(c->id).params) unit.params[std::string(ps.name)] = 1.0;
-    const EffectTerms et = effect_terms(unit);
     std::vector<std::string> added;
-    for (const auto& tc : et.drift)
-      if (coefficient(model.drift, tc.term) == 0.0) added.push_back(tc.term.name());
-    for (const auto& tc : et.diffusion)
-      if (coefficient(model.diffusion, tc.term) == 0.0) added.push_back(tc.term.name() + " (diffusion)");
-    if (added.empty()) {
-      rep.untested.emplace_back(name, "its terms are already in the model");
-      prog.advance();
-      continue;
+    if (c->method == SuspectMethod::DynamicForce) {
+      if (model.find_effect(c->id)) {
+        rep.untested.emplace_back(name, "already in the model");
+        prog.advance();
+        continue;
+      }
+      added.push_back(name + " (dynamic force)");
+    } else {
+      Effect unit;
+      unit.id = c->id;
+      for (const auto& ps : effect_spec(c->id).params) unit.params[std::string(ps.name)] = 1.0;
+      const EffectTerms et = effect_terms(unit);
+      for (const auto& tc : et.drift)
+        if (coefficient(model.drift, tc.term) == 0.0) added.push_back(tc.term.name());
+      for (const auto& tc : et.diffusion)
+        if (coefficient(model.diffusion, tc.term) == 0.0) added.push_back(tc.term.name() + " (diffusion)");
+      if (added.empty()) {
+        rep.untested.emplace_back(name, "its terms are already in the model");
+        prog.advance();
+        continue;
+      }
     }
     identify::Options o = io;
     Effect req;
     req.id = c->id;
-    o.effects = {req};
+    o.effects.push_back(req);
     try {
       const identify::Result r = identify::identify(train, o);
       Fitted f;
@@ -241,6 +251,12 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
     const Record& rec = data.records[b.record];
     const double* x = data.x_of(rec);
     const double* u = data.u_of(rec);
+    // forces of the dynamic effects of every fit along the record (absolute time, hidden
+    // states filtered from the record's start)
+    std::vector<std::vector<double>> dyn(K);
+    for (std::size_t k = 0; k < K; ++k)
+      if (!fits[k].model.effects.empty()) identify::dynamic_force(fits[k].model.effects, data, rec, dyn[k],
+                                                           central ? lens.stride : 0);
     for (std::size_t i = b.begin; i < b.end; ++i) {
       double xi, v, a;
       lens.at(x, i, xi, v, a);
@@ -248,10 +264,10 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
       const double a22b = fits[0].diffusion.value(xi, v, 0.0);
       const double ref_var = std::max(c * fits[0].diffusion.value(xi, 0.0, 0.0) / h + noise_var, var_floor);
       const double w = 0.5 / ref_var;
-      const double Fb = fits[0].drift.value(xi, v, ui);
+      const double Fb = fits[0].drift.value(xi, v, ui) + (dyn[0].empty() ? 0.0 : dyn[0][i]);
       for (std::size_t k = 0; k < K; ++k) {
         const Fitted& f = fits[k];
-        const double F = k == 0 ? Fb : f.drift.value(xi, v, ui);
+        const double F = k == 0 ? Fb : f.drift.value(xi, v, ui) + (dyn[k].empty() ? 0.0 : dyn[k][i]);
         double C = (a - F) * (a - F);
         if (central) {
           const double dF = f.drift.d_dy(xi, v, sign_w);
@@ -288,7 +304,7 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
     }
     Suspect sp;
     sp.effect = f.name;
-    sp.scale = diffusion ? "diffusion likelihood" : "drift contrast";
+    sp.scale = diffusion ? "diffusion likelihood" : f.method == SuspectMethod::DynamicForce ? "drift contrast (dynamic force)" : "drift contrast";
     sp.evidence = total;
     const double B = static_cast<double>(gain.size());
     double mean = total / B, ss = 0.0;
@@ -301,10 +317,17 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
     }
     sp.held_out_significant = sp.z > options.z_threshold && sp.evidence > 0.0;
     sp.significant = sp.held_out_significant;
-    const auto ep = identify::effect_parameters(f.model, {f.effect});
-    if (!ep.empty()) {
-      sp.params = ep[0]["params"];
-      sp.params_stderr = ep[0]["stderr"];
+    if (f.method == SuspectMethod::DynamicForce) {
+      if (const Effect* fe = f.model.find_effect(f.effect.id)) {
+        for (const auto& [key, val] : fe->params) sp.params[key] = val;
+        for (const auto& [key, val] : fe->stderr_) sp.params_stderr[key] = val;
+      }
+    } else {
+      const auto ep = identify::effect_parameters(f.model, {f.effect});
+      if (!ep.empty()) {
+        sp.params = ep[0]["params"];
+        sp.params_stderr = ep[0]["stderr"];
+      }
     }
     sp.add = {{"effects", nlohmann::ordered_json::array({{{"name", f.name}}})}};
     sp.terms = f.added;

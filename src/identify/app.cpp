@@ -20,9 +20,21 @@ const char* const kEffectsHelp =
     "{...}}. Term-like effects (asymmetric_stiffness, coulomb_friction, quadratic_damping, "
     "nonlinear_damping, velocity_dependent_noise) add their terms to the dictionaries and keep "
     "them through the sparse regression; their physical parameters (e.g. mu = -coef of sign(y)) "
-    "are reported with standard errors under \"effect_params\". Given params are ignored (the "
-    "fit is linear). Dynamic effects (impact_stop, harmonic_forcing, electromechanical_coupling, "
-    "colored_noise) are not supported by identification yet.";
+    "are reported with standard errors under \"effect_params\" (given params are ignored: the "
+    "fit is linear). Dynamic effects are fitted by profile least squares of the drift contrast "
+    "over their nonlinear parameters, jointly with the drift terms, and written to the model's "
+    "\"effects\" with standard errors (sandwich, batch means); params given in the entry are held "
+    "fixed. impact_stop: force -k_stop*(x-gap) beyond gap and -k_stop*(x+gap_neg) beyond -gap_neg; "
+    "gaps from a grid of quantiles of x refined by scan, golden section and joint Newton steps, "
+    "k_stop linear (needs samples beyond the gaps). harmonic_forcing: amplitude*cos(omega*t + "
+    "phase) with t the records' absolute time; omega from the largest lines of the Welch "
+    "spectrum of the baseline residuals refined on the profile, then amplitude and phase (amplitude "
+    "can be fixed only together with phase). electromechanical_coupling: force -coupling*v with "
+    "dv = (y - lambda*v) dt, v filtered from x itself; lambda on a log grid from 1/(record "
+    "duration) to 0.2/h; weakly identifiable against damping and stiffness (its force at one "
+    "frequency mixes both), so expect larger standard errors on beta, lambda and coupling. "
+    "colored_noise is not supported by identification yet. Details of the fit are written under "
+    "\"dynamic_fit\".";
 
 std::vector<Term> parse_term_list(const Config& c, const std::string& key) {
   std::vector<Term> out;

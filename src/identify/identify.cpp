@@ -15,6 +15,7 @@
 #include "vehs/core/error.hpp"
 #include "vehs/core/progress.hpp"
 #include "vehs/identify/dictionary.hpp"
+#include "vehs/identify/dynamic.hpp"
 #include "gram_kernels.hpp"
 
 namespace vehs::identify {
@@ -227,12 +228,18 @@ struct Context {
   const Dictionary& psi;  // diffusion library
   Kinematics kin;
   const FourthDerivative* jerk = nullptr;  // O(h²) correction of the target (central kinematics)
+  const double* known = nullptr;  // known force per sample, aligned with data.x (or null)
 
-  /// Rows [j0, j0 + m) of a record, the acceleration target corrected by −(h²/12)·x⁗.
+  /// Rows [j0, j0 + m) of a record, the acceleration target corrected by −(h²/12)·x⁗ and
+  /// by the known force.
   void load(const double* x, const double* u, std::size_t j0, int m, RowBlock& b) const {
     kin.load(x, u, j0, m, b);
     if (jerk)
       for (int c = 0; c < m; ++c) b.a[c] -= (*jerk)(b.x[c], b.v[c]);
+    if (known) {
+      const double* f = known + (x - data.x.data()) + kin.sample(j0);
+      for (int c = 0; c < m; ++c) b.a[c] -= f[c];
+    }
   }
 };
 
@@ -873,12 +880,13 @@ Target target_of(Estimator e) {
 
 /// Uncorrected full-library drift fit, residual autocorrelations, OLS diffusion fit.
 Pilot run_pilot(const Dataset& d, const Dictionary& phi, const Dictionary& psi, const Kinematics& kin,
-                Target target, std::size_t pilot_rows) {
+                Target target, std::size_t pilot_rows, const double* known) {
   Pilot p;
   p.k = kin.k;
   p.central = kin.central;
   p.target = target;
   Context cx{d, phi, psi, kin};
+  cx.known = known;
   const std::size_t per_record =
       std::max<std::size_t>(2000 + 4 * static_cast<std::size_t>(kin.k), pilot_rows / d.records.size() + 1);
   p.spans = make_spans(d, kin, 1, per_record);
@@ -906,8 +914,9 @@ Pilot run_pilot(const Dataset& d, const Dictionary& phi, const Dictionary& psi, 
 /// Long-run variance factors 1 + 2 Σ ρ_l of the residuals of the Itô-corrected drift and of
 /// the diffusion fit, over windows covering the correlation range of the kinematics.
 void finish_pilot(Pilot& p, const Dataset& d, const Dictionary& phi, const Dictionary& psi,
-                  const Kinematics& kin) {
+                  const Kinematics& kin, const double* known) {
   Context cx{d, phi, psi, kin};
+  cx.known = known;
   const std::vector<int> all = all_indices(phi.size());
   DriftCorrection corr;
   corr.ito = kin.central;
@@ -945,10 +954,12 @@ std::string Options::invalid_reason() const {
   if (!(noise_share_target > 0.0 && noise_share_target < 1.0))
     return "noise_share_target must be in (0, 1)";
   for (const auto& e : effects)
-    if (!effect_spec(e.id).term_like)
+    if (!effect_spec(e.id).term_like && !dynamic_fit_supported(e.id))
       return "effect '" + e.name() +
-             "' is a dynamic effect (hidden state, forcing or excitation model): its "
-             "identification is not supported yet";
+             "' is a dynamic effect whose identification is not supported yet";
+  if (known_force && !effects.empty())
+    for (const auto& e : effects)
+      if (!effect_spec(e.id).term_like) return "known_force cannot be combined with dynamic effects";
   return "";
 }
 
@@ -981,9 +992,24 @@ nlohmann::ordered_json effect_parameters(const Model& model, const std::vector<E
   return out;
 }
 
+namespace {
+Result identify_terms(const Dataset& data, const Options& options);
+}  // namespace
+
 Result identify(const Dataset& data, const Options& options) {
-  const auto t_start = std::chrono::steady_clock::now();
   if (auto why = options.invalid_reason(); !why.empty()) throw Error("identify: " + why);
+  for (const auto& e : options.effects)
+    if (is_dynamic(e.id)) return detail::identify_dynamic(data, options);
+  if (options.known_force)
+    require(options.known_force->size() == data.x.size(),
+            "identify: known_force must have one value per sample");
+  return identify_terms(data, options);
+}
+
+namespace {
+Result identify_terms(const Dataset& data, const Options& options) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const double* known = options.known_force ? options.known_force->data() : nullptr;
 
   // ---- dictionaries (effects add their terms, which are then kept)
   std::vector<Term> effect_drift, effect_diffusion;
@@ -1029,7 +1055,7 @@ Result identify(const Dataset& data, const Options& options) {
                 std::to_string(4 * k + static_cast<int>(kMinRecordSamples)) + " needed)");
   const Pilot diag = run_pilot(data, phi, psi, Kinematics(true, k, dt),
                                options.estimator == Estimator::Noisy ? Target::Noisy : Target::Uli,
-                               options.pilot_samples);
+                               options.pilot_samples, known);
   Estimator est = options.estimator;
   std::string reason = "requested";
   {
@@ -1066,13 +1092,13 @@ Result identify(const Dataset& data, const Options& options) {
     int guard = 0;
     while (share(pilot) >= goal && !too_short(2 * pilot.k) && guard++ < 20)
       pilot = run_pilot(data, phi, psi, Kinematics(true, 2 * pilot.k, dt), Target::Noisy,
-                        options.pilot_samples);
+                        options.pilot_samples, known);
     const double eta = share(pilot);
     if (eta < goal && pilot.k > 1) {
       const double ratio = ((1.0 - goal) / goal) / ((1.0 - eta) / eta);  // (h*/h)³
       const int next = std::clamp(static_cast<int>(std::lround(pilot.k * std::cbrt(ratio))), 1, pilot.k);
       if (next != pilot.k)
-        pilot = run_pilot(data, phi, psi, Kinematics(true, next, dt), Target::Noisy, options.pilot_samples);
+        pilot = run_pilot(data, phi, psi, Kinematics(true, next, dt), Target::Noisy, options.pilot_samples, known);
     }
   }
   k = central ? pilot.k : 1;
@@ -1080,8 +1106,8 @@ Result identify(const Dataset& data, const Options& options) {
   // the pilot in the final kinematics: weights of the diffusion fit, Itô correction for the
   // drift selection, long-run variance factors of the BIC
   if (!(pilot.central == kin.central && pilot.k == kin.k && pilot.target == target))
-    pilot = run_pilot(data, phi, psi, kin, target, options.pilot_samples);
-  finish_pilot(pilot, data, phi, psi, kin);
+    pilot = run_pilot(data, phi, psi, kin, target, options.pilot_samples, known);
+  finish_pilot(pilot, data, phi, psi, kin, known);
   lap("pilot");
   phi.set_sign_kernel_halfwidth(std::max(0.05 * pilot.v_sd, 1e-300));
   res.estimator_used = est;
@@ -1096,6 +1122,7 @@ Result identify(const Dataset& data, const Options& options) {
                        : est == Estimator::Paper ? SsrRule::AbsCoef
                                                  : SsrRule::TRatio;
   Context cx{data, phi, psi, kin};
+  cx.known = known;
   const FourthDerivative jerk(phi.terms(), pilot.c, kin.h);
   const bool h2_correction = central && options.discretization_correction;
   if (h2_correction) cx.jerk = &jerk;
@@ -1304,5 +1331,7 @@ Result identify(const Dataset& data, const Options& options) {
   x["fit"]["timings"] = timings;
   return res;
 }
+
+}  // namespace
 
 }  // namespace vehs::identify

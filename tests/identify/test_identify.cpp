@@ -202,7 +202,7 @@ TEST_CASE("unusable records are rejected with the record and row named", "[ident
   }
   {
     identify::Options o;
-    o.effects.push_back(effect_from_json("impact_stop", "test", false));
+    o.effects.push_back(effect_from_json("colored_noise", "test", false));
     Dataset d;
     record(d, 1, good);
     try {

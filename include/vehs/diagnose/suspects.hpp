@@ -1,6 +1,6 @@
 #pragma once
 // Suspects: which catalogue effect (contracts.md §4) missing from the model would the data
-// support? Ground work of issue 7, implemented for the term-like effects.
+// support? Issue 7: term-like effects and the dynamic forces (colored_noise not yet).
 //
 // Procedure. Every record is split in time: the first (1 − holdout) of its samples train, the
 // rest is held out. On the training part, identify (vehs::identify::identify, the lens's
@@ -16,14 +16,22 @@
 // evidence = total held-out gain (nats; positive: the effect predicts better); z = its mean over
 // held-out blocks (records, or sub-blocks of few records) divided by the standard error from
 // the block-to-block spread. A suspect is `significant` when z > z_threshold (default 3, about a
-// 1 % family-wise level over the five term-like effects) and the gain is positive. Suspects are
+// 1 % family-wise level over the eight tested effects) and the gain is positive. Suspects are
 // ranked by evidence. Adding more terms can only lower the held-out fit through estimation noise,
 // so a model that lacks nothing gives gains ≈ −(extra terms)/2 nats and no significant suspect.
 //
-// Extension: suspect_table() has one entry per catalogue effect saying how it is fitted and
-// scored. Dynamic effects (impact_stop, harmonic_forcing, electromechanical_coupling,
-// colored_noise) are listed as not yet testable; once identify fits them, switching an entry's
-// method (and, for hidden states, providing the held-out scorer) enables them.
+// Dynamic forces (impact_stop, harmonic_forcing, electromechanical_coupling): identify fits them
+// on the training part (profile least squares over gap / frequency / time constant, see
+// vehs/identify/dynamic.hpp); the held-out score is the same weighted drift contrast, with the
+// fitted force evaluated at the held-out samples (harmonic forcing at their absolute time, the
+// electromechanical state filtered along the whole record). The profile search picks the best of
+// many nonlinear candidates on the training part only, so chance fits (a random spectral line, a
+// gap at the largest |x|) do not carry over to the held-out part: on data without the effect the
+// gain is about −(parameters)/2 nats or less. A fit that ends unphysical (k_stop ≤ 0, coupling
+// < 0) is listed as untested with the reason. When the model already has dynamic effects they are
+// refitted (all params free) in the baseline and in every candidate fit.
+//
+// colored_noise is not yet testable (identify cannot fit it); suspect_table() says so.
 #include <string>
 #include <string_view>
 #include <vector>
@@ -39,6 +47,7 @@ namespace vehs::diagnose {
 enum class SuspectMethod {
   DriftTerms,      ///< term-like drift effect: identify with Options::effects, drift contrast
   DiffusionTerms,  ///< term-like diffusion effect: identify with Options::effects, diffusion likelihood
+  DynamicForce,    ///< dynamic force (stops, forcing, hidden state): identify's profile fit, drift contrast
   NotYet,          ///< dynamic effect: identify cannot fit it yet
 };
 

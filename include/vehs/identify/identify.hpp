@@ -88,9 +88,14 @@ inline constexpr EnumNames<Estimator, 5> kEstimatorNames{{{Estimator::Auto, "aut
 struct Options {
   std::vector<Term> drift_library = paper_drift_library(11, 3);
   std::vector<Term> diffusion_library = paper_diffusion_library(4);
-  /// Term-like effects (contracts.md §4) whose terms are added and kept through selection.
-  /// Dynamic effects are rejected (not supported yet).
+  /// Effects of contracts.md §4. Term-like ones add their terms, kept through selection.
+  /// Dynamic ones (impact_stop, harmonic_forcing, electromechanical_coupling) are fitted by
+  /// profile least squares (vehs/identify/dynamic.hpp); params present in an entry are held
+  /// fixed. colored_noise is rejected (not supported yet).
   std::vector<Effect> effects;
+  /// Known force per sample (aligned with Dataset::x), subtracted from the acceleration
+  /// target; used by the dynamic-effect fit (not with dynamic effects in `effects`).
+  const std::vector<double>* known_force = nullptr;
   /// Further terms never removed by the sparse regression.
   std::vector<Term> keep_drift, keep_diffusion;
 

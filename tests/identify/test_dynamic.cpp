@@ -1,0 +1,255 @@
+// Dynamic effects (impact stops, harmonic forcing, electromechanical coupling) identified from
+// continuous-time records (fine internal steps) of two potentials, with parameters drawn at
+// random within physical ranges by the test; identify never sees them. Checks: every effect
+// parameter within 3 standard errors and 15 % of the truth, the baseline terms within 3
+// standard errors, and the written model simulates.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "identify_fixtures.hpp"
+#include "vehs/core/error.hpp"
+#include "vehs/identify/dynamic.hpp"
+
+using namespace vehs;
+using namespace vehs_test;
+
+namespace {
+
+Model potential(const std::string& which) {
+  if (which == "bistable")
+    return model_from_json(nlohmann::json::parse(R"({"drift": {"x": 1.0, "x^3": -1.0, "y": -0.1},
+        "diffusion": {"1": 0.02, "x^2": 0.01}})"), "bistable");
+  return model_from_json(nlohmann::json::parse(R"({"drift": {"x": -1.0, "x^3": -1.0, "y": -0.1},
+      "diffusion": {"1": 0.02, "x^2": 0.01}})"), "monostable");
+}
+
+Dataset simulate_hidden(const Model& m, std::uint64_t seed, int records = 8, std::size_t samples = 40000) {
+  sim::SimulationOptions o;
+  o.dt = 0.01;
+  o.substeps = 10;
+  o.records = records;
+  o.samples = samples;
+  o.seed = seed;
+  o.scheme = sim::Scheme::Taylor15;
+  o.burn_in = std::getenv("NOBURN") ? 0.0 : 20.0;
+  o.record_y = false;
+  return sim::simulate(m, o);
+}
+
+double uniform(std::mt19937_64& g, double a, double b) { return std::uniform_real_distribution<double>(a, b)(g); }
+
+/// Fitted effect parameter vs truth: |Δ| ≤ 3 SE and ≤ 15 %.
+void check_param(const Effect& fitted, const std::string& name, double truth) {
+  const double v = fitted.param(name);
+  const double se = fitted.stderr_.at(name);
+  INFO(fitted.name() << "." << name << ": true " << truth << ", fitted " << v << " +- " << se
+                     << " (z = " << (v - truth) / se << ")");
+  CHECK(std::isfinite(se));
+  CHECK(se > 0.0);
+  CHECK(std::abs(v - truth) <= 3.0 * se);
+  CHECK(std::abs(v - truth) <= 0.15 * std::abs(truth));
+}
+
+identify::Options options_for(const Model& base) {
+  identify::Options o;
+  // x^2 as a distractor the selection must drop (x^5 is left out: over the small range of a
+  // stopped monostable oscillator x^3 and x^5 are nearly collinear)
+  o.drift_library = {Term::parse("x"), Term::parse("x^2"), Term::parse("x^3"), Term::parse("y")};
+  o.diffusion_library = paper_diffusion_library(2);
+  if (std::getenv("NOSSR")) {
+    o.drift_library = {Term::parse("x"), Term::parse("x^3"), Term::parse("y")};
+    o.sparsity = identify::Sparsity::None;
+  }
+  (void)base;
+  return o;
+}
+
+void check_baseline(const Model& learned, const Model& truth) {
+  const Deviation d = compare(learned, truth);
+  CHECK(d.max_z <= 3.0);
+}
+
+}  // namespace
+
+TEST_CASE("dynamic effects: harmonic forcing (frequency, amplitude, phase) on two potentials",
+          "[identify][dynamic][harmonic]") {
+  const std::string pot = GENERATE(std::string("bistable"), std::string("monostable"));
+  std::mt19937_64 g(pot == "bistable" ? 11 : 12);
+  Model truth = potential(pot);
+  Effect e;
+  e.id = EffectId::HarmonicForcing;
+  e.params = {{"amplitude", uniform(g, 0.05, 0.12)}, {"omega", uniform(g, 0.6, 2.0)}, {"phase", uniform(g, -3.0, 3.0)}};
+  truth.effects = {e};
+  const Dataset d = simulate_hidden(truth, 100 + g() % 1000);
+  identify::Options o = options_for(truth);
+  Effect req;
+  req.id = EffectId::HarmonicForcing;
+  o.effects = {req};
+  const identify::Result r = identify::identify(d, o);
+  INFO(pot << ": " << model_to_json(r.model)["dynamic_fit"].dump() << " drift " << model_to_json(r.model)["drift"].dump() << " estimator " << model_to_json(r.model)["estimator"]["used"].dump());
+  REQUIRE(r.model.effects.size() == 1);
+  const Effect& f = r.model.effects[0];
+  check_param(f, "omega", e.param("omega"));
+  check_param(f, "amplitude", e.param("amplitude"));
+  // phase: compare on the circle
+  {
+    const double dphi = std::remainder(f.param("phase") - e.param("phase"), 2.0 * M_PI);
+    const double se = f.stderr_.at("phase");
+    INFO("phase: true " << e.param("phase") << ", fitted " << f.param("phase") << " +- " << se);
+    CHECK(std::abs(dphi) <= 3.0 * se);
+    CHECK(std::abs(dphi) <= 0.15 * M_PI);
+  }
+  truth.effects.clear();
+  check_baseline(r.model, truth);
+  CHECK(names(r.model.drift) == names(truth.drift));
+  // the model file round-trips and validates
+  const Model back = model_from_json(nlohmann::json(model_to_json(r.model)), "written");
+  validate_model(back, "written");
+  REQUIRE(back.effects.size() == 1);
+}
+
+TEST_CASE("dynamic effects: impact stops (stiffness and both gaps) on two potentials",
+          "[identify][dynamic][impact]") {
+  const std::string pot = GENERATE(std::string("bistable"), std::string("monostable"));
+  std::mt19937_64 g(pot == "bistable" ? 21 : 22);
+  Model truth = potential(pot);
+  // gaps at a random quantile of |x| of the same system without stops
+  const Dataset free_run = simulate_hidden(truth, 5, 2, 20000);
+  std::vector<double> ax(free_run.x.begin(), free_run.x.end());
+  std::vector<double> pos, neg;
+  for (double v : ax) (v > 0 ? pos : neg).push_back(std::abs(v));
+  std::sort(pos.begin(), pos.end());
+  std::sort(neg.begin(), neg.end());
+  const double q = uniform(g, 0.90, 0.96);
+  Effect e;
+  e.id = EffectId::ImpactStop;
+  e.params = {{"k_stop", uniform(g, 20.0, 80.0)},
+              {"gap", pos[static_cast<std::size_t>(q * pos.size())]},
+              {"gap_neg", neg[static_cast<std::size_t>(q * neg.size())]}};
+  truth.effects = {e};
+  const Dataset d = simulate_hidden(truth, 200 + g() % 1000);
+  identify::Options o = options_for(truth);
+  Effect req;
+  req.id = EffectId::ImpactStop;
+  o.effects = {req};
+  const identify::Result r = identify::identify(d, o);
+  INFO(pot << ": " << model_to_json(r.model)["dynamic_fit"].dump() << " drift " << model_to_json(r.model)["drift"].dump() << " estimator " << model_to_json(r.model)["estimator"]["used"].dump());
+  REQUIRE(r.model.effects.size() == 1);
+  const Effect& f = r.model.effects[0];
+  check_param(f, "k_stop", e.param("k_stop"));
+  check_param(f, "gap", e.param("gap"));
+  check_param(f, "gap_neg", e.param("gap_neg"));
+  truth.effects.clear();
+  check_baseline(r.model, truth);
+}
+
+// Monostable only: on the bistable potential the spread of the estimates over seeds is about
+// 1.5x the sandwich standard error at 64 records (lambda z = +2.1, -1.7, -0.6 and coupling z =
+// +2.0, -0.8, +0.1 over three seeds), and one draw stays 3.3 SE off at 160 records — the
+// standard errors of this weakly identified effect under-cover there (well hopping; see
+// data/identify/README.md).
+TEST_CASE("dynamic effects: electromechanical coupling (time constant and coupling) from x alone",
+          "[identify][dynamic][electro]") {
+  const std::string pot = "monostable";
+  std::mt19937_64 g(32);
+  Model truth = potential(pot);
+  Effect e;
+  e.id = EffectId::ElectromechanicalCoupling;
+  e.params = {{"lambda", uniform(g, 0.6, 1.4)}, {"coupling", uniform(g, 0.3, 0.6)}};
+  truth.effects = {e};
+  // the hidden state is weakly identifiable against damping and stiffness (its force at one
+  // frequency is a mix of both) and its profile estimate has a finite-sample bias of about −1 SE
+  // at 32 records (−0.3 SE at 160, measured): 8x the records of the other effects
+  const Dataset d = simulate_hidden(truth, 300 + g() % 1000, std::getenv("NREC") ? std::atoi(std::getenv("NREC")) : 64, 40000);
+  identify::Options o = options_for(truth);
+  Effect req;
+  req.id = EffectId::ElectromechanicalCoupling;
+  o.effects = {req};
+  const identify::Result r = identify::identify(d, o);
+  INFO(pot << ": " << model_to_json(r.model)["dynamic_fit"].dump() << " drift " << model_to_json(r.model)["drift"].dump() << " estimator " << model_to_json(r.model)["estimator"]["used"].dump());
+  REQUIRE(r.model.effects.size() == 1);
+  const Effect& f = r.model.effects[0];
+  check_param(f, "lambda", e.param("lambda"));
+  check_param(f, "coupling", e.param("coupling"));
+  truth.effects.clear();
+  check_baseline(r.model, truth);
+}
+
+TEST_CASE("dynamic effects: given params are held fixed; unsupported and bad requests fail clearly",
+          "[identify][dynamic]") {
+  Model truth = potential("bistable");
+  Effect e;
+  e.id = EffectId::HarmonicForcing;
+  e.params = {{"amplitude", 0.1}, {"omega", 1.3}, {"phase", 0.4}};
+  truth.effects = {e};
+  const Dataset d = simulate_hidden(truth, 77, 4, 20000);
+  identify::Options o = options_for(truth);
+  Effect req;
+  req.id = EffectId::HarmonicForcing;
+  req.params = {{"omega", 1.3}};
+  o.effects = {req};
+  const identify::Result r = identify::identify(d, o);
+  REQUIRE(r.model.effects.size() == 1);
+  CHECK(r.model.effects[0].param("omega") == 1.3);
+  CHECK(r.model.effects[0].stderr_.count("omega") == 0);
+  CHECK(std::abs(r.model.effects[0].param("amplitude") - 0.1) < 0.02);
+
+  Effect bad;
+  bad.id = EffectId::HarmonicForcing;
+  bad.params = {{"amplitude", 0.1}};
+  o.effects = {bad};
+  CHECK_THROWS_WITH(identify::identify(d, o), Catch::Contains("amplitude can only be held fixed together with phase"));
+  Effect cn;
+  cn.id = EffectId::ColoredNoise;
+  o.effects = {cn};
+  CHECK_THROWS_WITH(identify::identify(d, o), Catch::Contains("not supported yet"));
+}
+
+TEST_CASE("calibration study: electromechanical coupling over seeds (env NREC, NSEEDS, LAM, CPL, SSR, NOBURN)", "[.calibration]") {
+  const int nrec = std::getenv("NREC") ? std::atoi(std::getenv("NREC")) : 32;
+  const int nseeds = std::getenv("NSEEDS") ? std::atoi(std::getenv("NSEEDS")) : 6;
+  for (int seed = 1; seed <= nseeds; ++seed) {
+    std::string pot = "bistable";
+    Model truth = pot == "paper" ? paper_truth() : potential(pot);
+    Effect e;
+    e.id = EffectId::ElectromechanicalCoupling;
+    e.params = {{"lambda", std::getenv("LAM") ? std::atof(std::getenv("LAM")) : 1.0}, {"coupling", std::getenv("CPL") ? std::atof(std::getenv("CPL")) : 0.4}};
+    truth.effects = {e};
+    const Dataset d = simulate_hidden(truth, 6000 + seed, nrec, 40000);
+    identify::Options io;
+    io.drift_library = {Term::parse("x"), Term::parse("x^3"), Term::parse("y")};
+    if (pot == "paper") io.drift_library = paper_drift_library(9, 1);
+    io.diffusion_library = paper_diffusion_library(2);
+    if (std::getenv("SSR")) io.drift_library = {Term::parse("x"), Term::parse("x^2"), Term::parse("x^3"), Term::parse("y")};
+    else io.sparsity = identify::Sparsity::None;
+    Effect req;
+    req.id = EffectId::ElectromechanicalCoupling;
+    io.effects = {req};
+    const identify::Result r = identify::identify(d, io);
+    const Effect& f = r.model.effects[0];
+    WARN(pot << " lambda " << f.param("lambda") << " +- " << f.stderr_.at("lambda") << " coupling " << f.param("coupling") << " +- " << f.stderr_.at("coupling")
+         << " beta " << r.model.drift_coef("y") << " +- " << r.model.drift_stderr.at("y") << " " << r.model.extra["estimator"]["used"].dump() << " " << r.model.extra["dynamic_fit"]["rounds"].dump());
+  }
+}
+
+TEST_CASE("calibration study: impact stops on the monostable potential over 8 seeds", "[.calibration]") {
+  Model truth = potential("monostable");
+  Effect e;
+  e.id = EffectId::ImpactStop;
+  e.params = {{"k_stop", 48.0}, {"gap", 0.554}, {"gap_neg", 0.586}};
+  truth.effects = {e};
+  for (int seed = 1; seed <= 8; ++seed) {
+    const Dataset d = simulate_hidden(truth, 7000 + seed, 8, 40000);
+    identify::Options io = options_for(truth);
+    Effect req;
+    req.id = EffectId::ImpactStop;
+    io.effects = {req};
+    const identify::Result r = identify::identify(d, io);
+    const Effect& f = r.model.effects[0];
+    WARN("seed " << seed << " zk " << (f.param("k_stop") - 48.0) / f.stderr_.at("k_stop") << " zg "
+                 << (f.param("gap") - 0.554) / f.stderr_.at("gap") << " zgn " << (f.param("gap_neg") - 0.586) / f.stderr_.at("gap_neg")
+                 << " zb " << (r.model.drift_coef("y") + 0.1) / r.model.drift_stderr.at("y") << " terms " << model_to_json(r.model)["drift"].dump());
+  }
+}
