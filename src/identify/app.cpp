@@ -239,8 +239,17 @@ Options options_from_config(const Config& c) {
   if (c.has("effects")) {
     const auto& ef = c.raw("effects");
     if (!ef.is_array()) c.fail("effects", "must be a list of effect names or {name, params}");
-    for (std::size_t i = 0; i < ef.size(); ++i)
-      o.effects.push_back(effect_from_json(ef[i], c.where("effects") + "[" + std::to_string(i) + "]", false));
+    for (std::size_t i = 0; i < ef.size(); ++i) {
+      const std::string where = c.where("effects") + "[" + std::to_string(i) + "]";
+      const Effect e = effect_from_json(ef[i], where, false);
+      if (e.id == EffectId::HarmonicForcing && e.params.count("amplitude") && !e.params.count("phase"))
+        throw Error(where + ".params.amplitude: harmonic_forcing's amplitude can only be held fixed together with phase");
+      if (e.id == EffectId::ColoredNoise)
+        throw Error(where + ": colored_noise cannot be identified yet (its suspect is not tested either)");
+      for (const auto& prev : o.effects)
+        if (prev.id == e.id) throw Error(where + ": effect '" + e.name() + "' is listed twice");
+      o.effects.push_back(e);
+    }
   }
   if (c.has("keep_terms")) {
     const Config k = c.object("keep_terms", {"drift", "diffusion"});

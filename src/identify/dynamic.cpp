@@ -3,8 +3,6 @@
 #include "vehs/identify/dynamic.hpp"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -100,6 +98,7 @@ struct Component {
   std::vector<std::string> theta_names;
   std::vector<double> theta;
   std::vector<bool> theta_free;
+  std::vector<double> theta_lo, theta_hi;  // search bounds (set by search_theta)
   std::vector<std::string> beta_names;  // free linear parameters (columns)
   VectorXd beta;                        // their fitted values
 
@@ -637,7 +636,11 @@ void newton_polish(Problem& P, const std::vector<std::pair<int, int>>& free_th, 
     auto th = P.thetas();
     for (int j = 0; j < n; ++j) {
       const auto [ci, sl] = free_th[static_cast<std::size_t>(j)];
-      th[static_cast<std::size_t>(ci)][static_cast<std::size_t>(sl)] = is_log(j) ? std::exp(z[j]) : z[j];
+      const Component& c = P.comps[static_cast<std::size_t>(ci)];
+      const double v = is_log(j) ? std::exp(z[j]) : z[j];
+      if (!c.theta_lo.empty() && (v < c.theta_lo[static_cast<std::size_t>(sl)] || v > c.theta_hi[static_cast<std::size_t>(sl)]))
+        return kInf;
+      th[static_cast<std::size_t>(ci)][static_cast<std::size_t>(sl)] = v;
     }
     return contrast_at(P, th);
   };
@@ -703,34 +706,51 @@ void search_theta(Problem& P, nlohmann::ordered_json& info) {
   // initial values and brackets per free entry
   std::vector<Search> searches(free_th.size());
   // quantiles of x for the gaps
-  std::vector<double> xs;
+  // samples of each side (positive x, |negative x|), sorted: the gaps are searched between
+  // the median of a side and its largest excursion — a stop acts at the extremes, and a gap
+  // near 0 would turn the stop into a stiffness term (collinear with x)
+  std::vector<double> xpos, xneg;
   for (const auto& r : P.data.records) {
     const double* x = P.data.x_of(r);
-    for (std::size_t i = 0; i < r.size; i += 3) xs.push_back(x[i]);
+    for (std::size_t i = 0; i < r.size; i += 3) (x[i] > 0 ? xpos : xneg).push_back(std::abs(x[i]));
   }
-  std::sort(xs.begin(), xs.end());
-  auto xq = [&](double q) {
-    return xs[std::min(xs.size() - 1, static_cast<std::size_t>(q * static_cast<double>(xs.size())))];
+  std::sort(xpos.begin(), xpos.end());
+  std::sort(xneg.begin(), xneg.end());
+  auto sq = [](const std::vector<double>& v, double q) {
+    if (v.empty()) return 1e-12;
+    return std::max(v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))], 1e-12);
   };
   const std::vector<double> qs = {0.5, 0.6, 0.7, 0.8, 0.85, 0.9, 0.93, 0.95, 0.97, 0.98, 0.99, 0.995, 0.998};
 
+  for (auto& c : P.comps) {
+    c.theta_lo.assign(c.theta.size(), 1e-12);
+    c.theta_hi.assign(c.theta.size(), kInf);
+    if (c.id == EffectId::ImpactStop) {
+      c.theta_lo = {sq(xpos, 0.5), sq(xneg, 0.5)};
+      c.theta_hi = {sq(xpos, 0.9999), sq(xneg, 0.9999)};
+    }
+  }
   for (std::size_t i = 0; i < P.comps.size(); ++i) {
     Component& c = P.comps[i];
     nlohmann::ordered_json ci;
+    // the grid of component i runs with the components initialised so far (later ones still
+    // have placeholder parameters, e.g. ω = 0 makes the sin column vanish)
+    Problem Q = P;
+    Q.comps.assign(P.comps.begin(), P.comps.begin() + static_cast<long>(i) + 1);
     if (c.id == EffectId::ImpactStop) {
-      // joint grid over matching quantiles of both tails
+      // joint grid over matching quantiles of both sides
       double best = kInf;
       std::vector<double> gp, gn;
       for (double q : qs) {
-        gp.push_back(std::max(xq(q), 1e-12));
-        gn.push_back(std::max(-xq(1.0 - q), 1e-12));
+        gp.push_back(sq(xpos, q));
+        gn.push_back(sq(xneg, q));
       }
       std::size_t jb = 0;
       for (std::size_t j = 0; j < qs.size(); ++j) {
-        auto th = P.thetas();
+        auto th = Q.thetas();
         if (c.theta_free[0]) th[i][0] = gp[j];
         if (c.theta_free[1]) th[i][1] = gn[j];
-        const double v = contrast_at(P, th);
+        const double v = contrast_at(Q, th);
         if (v < best) best = v, jb = j;
       }
       if (c.theta_free[0]) c.theta[0] = gp[jb];
@@ -741,10 +761,9 @@ void search_theta(Problem& P, nlohmann::ordered_json& info) {
       double best = kInf;
       for (int j = 0; j < 24; ++j) {
         const double lam = lo * std::pow(hi / lo, j / 23.0);
-        auto th = P.thetas();
+        auto th = Q.thetas();
         th[i][0] = lam;
-        const double v = contrast_at(P, th);
-        if (std::getenv("VEHS_DEBUG_PROFILE")) std::fprintf(stderr, "lambda %.4f contrast %.3f\n", lam, v);
+        const double v = contrast_at(Q, th);
         if (v < best) best = v, c.theta[0] = lam;
       }
       ci["grid"] = {lo, hi, 24};
@@ -759,9 +778,9 @@ void search_theta(Problem& P, nlohmann::ordered_json& info) {
         const double step = std::max(2.0 * kPi / (4.0 * T), 3.0 * seg_res / 400.0);
         for (double w = w0 - 1.5 * seg_res; w <= w0 + 1.5 * seg_res; w += step) {
           if (w <= 0) continue;
-          auto th = P.thetas();
+          auto th = Q.thetas();
           th[i][0] = w;
-          const double v = contrast_at(P, th);
+          const double v = contrast_at(Q, th);
           if (v < best) best = v, c.theta[0] = w;
         }
       }
@@ -795,9 +814,12 @@ void search_theta(Problem& P, nlohmann::ordered_json& info) {
         const double step = 2.0 * kPi / (4.0 * time_span(P.data));
         a = v0 - 1.5 * step, b = v0 + 1.5 * step;
       }
+      const double lo = c.theta_lo[static_cast<std::size_t>(s)], hi = c.theta_hi[static_cast<std::size_t>(s)];
       auto f = [&](double z) {
+        const double v = logs ? std::exp(z) : z;
+        if (v < lo || v > hi) return kInf;
         auto th = P.thetas();
-        th[static_cast<std::size_t>(ci)][static_cast<std::size_t>(s)] = logs ? std::exp(z) : z;
+        th[static_cast<std::size_t>(ci)][static_cast<std::size_t>(s)] = v;
         return contrast_at(P, th);
       };
       const double z0 = logs ? std::log(v0) : v0;
@@ -1058,7 +1080,19 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
   FitOut fit;
   std::vector<double> force(data.x.size(), 0.0);
   Result next;
-  for (int round = 0; round < 2; ++round) {
+  // the full drift library (with the terms of term-like effects): the first profile fit runs on
+  // all of it, because a selection made without the dynamic effect can have absorbed it (high
+  // powers of x standing in for the stops); later rounds use identify's selection made with the
+  // fitted dynamic force subtracted
+  std::vector<Term> full = options.drift_library;
+  for (const auto& e : base.effects) {
+    Effect unit;
+    unit.id = e.id;
+    for (const auto& ps : effect_spec(e.id).params) unit.params[std::string(ps.name)] = 1.0;
+    for (const auto& tc : effect_terms(unit).drift)
+      if (std::find(full.begin(), full.end(), tc.term) == full.end()) full.push_back(tc.term);
+  }
+  for (int round = 0; round < 3; ++round) {
     Problem P(data);
     P.central = cur.estimator_used == Estimator::Uli || cur.estimator_used == Estimator::Noisy;
     P.k = P.central ? cur.stride : 1;
@@ -1066,10 +1100,9 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
     P.h = P.central ? P.k * P.dt : P.dt;
     P.lead = P.central ? static_cast<std::size_t>(P.k) : 0;
     P.trail = P.central ? static_cast<std::size_t>(P.k) : 2;
-    P.phi = Dictionary(terms_of(cur.model.drift));
+    const std::vector<Term> support = round == 0 ? full : terms_of(cur.model.drift);
+    P.phi = Dictionary(support);
     P.psi = Dictionary(terms_of(cur.model.diffusion));
-    P.c_base = VectorXd(P.phi.size());
-    for (int j = 0; j < P.phi.size(); ++j) P.c_base[j] = cur.model.drift[static_cast<std::size_t>(j)].coef;
     P.q = VectorXd(P.psi.size());
     for (int j = 0; j < P.psi.size(); ++j) P.q[j] = cur.model.diffusion[static_cast<std::size_t>(j)].coef;
     {
@@ -1086,6 +1119,7 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
     P.comps = comps;
     nlohmann::ordered_json search;
     P.base = std::make_shared<const BaseMoments>(base_moments(P));
+    P.c_base = P.base->G.ldlt().solve(P.base->b);  // baseline drift without the dynamic effects
     search_theta(P, search);
       fit = finish_fit(P);
     fitted = effects_of(P, fit);
@@ -1112,8 +1146,8 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
     o2.known_force = &force;
     next = identify(data, o2);
     info["rounds"] = round + 1;
-    const bool same = terms_of(next.model.drift) == terms_of(cur.model.drift) &&
-                      next.estimator_used == cur.estimator_used && next.stride == cur.stride;
+    const bool same = terms_of(next.model.drift) == support && next.estimator_used == cur.estimator_used &&
+                      next.stride == cur.stride;
     cur = next;
     if (same) break;
   }
