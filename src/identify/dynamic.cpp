@@ -700,7 +700,8 @@ void newton_polish(Problem& P, const std::vector<std::pair<int, int>>& free_th, 
 }
 
 /// Finds the free nonlinear parameters (grid, then golden-section refinement).
-void search_theta(Problem& P, nlohmann::ordered_json& info) {
+/// warm: the components carry the previous round's θ — skip the grids, refine locally.
+void search_theta(Problem& P, nlohmann::ordered_json& info, bool warm) {
   const auto free_th = P.free_theta();
   if (free_th.empty()) return;
   // initial values and brackets per free entry
@@ -730,7 +731,7 @@ void search_theta(Problem& P, nlohmann::ordered_json& info) {
       c.theta_hi = {sq(xpos, 0.9999), sq(xneg, 0.9999)};
     }
   }
-  for (std::size_t i = 0; i < P.comps.size(); ++i) {
+  for (std::size_t i = 0; i < (warm ? 0 : P.comps.size()); ++i) {
     Component& c = P.comps[i];
     nlohmann::ordered_json ci;
     // the grid of component i runs with the components initialised so far (later ones still
@@ -792,7 +793,7 @@ void search_theta(Problem& P, nlohmann::ordered_json& info) {
   // refinement per free entry: a scan of the bracket (the profile is rough on the scale of the
   // sample spacing for gaps), then golden section around the best scan point; two cycles when
   // there are several entries
-  const int cycles = free_th.size() > 1 ? 2 : 1;
+  const int cycles = free_th.size() > 1 && !warm ? 2 : 1;
   for (int cy = 0; cy < cycles; ++cy)
     for (const auto& [ci, s] : free_th) {
       Component& c = P.comps[static_cast<std::size_t>(ci)];
@@ -801,9 +802,9 @@ void search_theta(Problem& P, nlohmann::ordered_json& info) {
       int scan = 7;
       bool logs = false;
       if (c.id == EffectId::ImpactStop) {
-        const double span = std::max((cy == 0 ? 0.15 : 0.03) * v0, 1e-9);
+        const double span = std::max((cy == 0 && !warm ? 0.15 : 0.03) * v0, 1e-9);
         a = std::max(v0 - span, 1e-12), b = v0 + span;
-        scan = cy == 0 ? 21 : 9;
+        scan = cy == 0 && !warm ? 21 : 9;
       } else if (c.id == EffectId::ElectromechanicalCoupling) {
         logs = true;
         const double lo = 1.0 / longest_record(P.data), hi = 0.2 / P.h;
@@ -1120,7 +1121,8 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
     nlohmann::ordered_json search;
     P.base = std::make_shared<const BaseMoments>(base_moments(P));
     P.c_base = P.base->G.ldlt().solve(P.base->b);  // baseline drift without the dynamic effects
-    search_theta(P, search);
+    search_theta(P, search, round > 0);
+    comps = P.comps;  // warm start of the next round
       fit = finish_fit(P);
     fitted = effects_of(P, fit);
     info["search"] = search;

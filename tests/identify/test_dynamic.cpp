@@ -177,6 +177,40 @@ TEST_CASE("dynamic effects: electromechanical coupling (time constant and coupli
   check_baseline(r.model, truth);
 }
 
+TEST_CASE("dynamic effects: stops and forcing together, with spurious library terms the selection must drop",
+          "[identify][dynamic][joint]") {
+  // a selection made without the effects absorbs the stops into x^5 (x^3 changes sign); the
+  // first profile fit must run on the full library and the final selection drop x^2 and x^5
+  std::mt19937_64 g(41);
+  Model truth = potential("bistable");
+  Effect stop, force;
+  stop.id = EffectId::ImpactStop;
+  stop.params = {{"k_stop", uniform(g, 30.0, 60.0)}, {"gap", uniform(g, 1.25, 1.35)}, {"gap_neg", uniform(g, 1.2, 1.3)}};
+  force.id = EffectId::HarmonicForcing;
+  force.params = {{"amplitude", uniform(g, 0.08, 0.12)}, {"omega", uniform(g, 0.8, 1.6)}, {"phase", uniform(g, -3.0, 3.0)}};
+  truth.effects = {stop, force};
+  const Dataset d = simulate_hidden(truth, 400 + g() % 1000, 6, 40000);
+  identify::Options o;
+  o.drift_library = {Term::parse("x"), Term::parse("x^2"), Term::parse("x^3"), Term::parse("x^5"), Term::parse("y")};
+  o.diffusion_library = paper_diffusion_library(2);
+  Effect a, b;
+  a.id = EffectId::ImpactStop;
+  b.id = EffectId::HarmonicForcing;
+  o.effects = {a, b};
+  const identify::Result r = identify::identify(d, o);
+  INFO(model_to_json(r.model)["dynamic_fit"].dump());
+  REQUIRE(r.model.effects.size() == 2);
+  const Effect* fs = r.model.find_effect(EffectId::ImpactStop);
+  const Effect* ff = r.model.find_effect(EffectId::HarmonicForcing);
+  REQUIRE(fs);
+  REQUIRE(ff);
+  for (const char* k : {"k_stop", "gap", "gap_neg"}) check_param(*fs, k, stop.param(k));
+  for (const char* k : {"amplitude", "omega"}) check_param(*ff, k, force.param(k));
+  truth.effects.clear();
+  CHECK(names(r.model.drift) == names(truth.drift));
+  check_baseline(r.model, truth);
+}
+
 TEST_CASE("dynamic effects: given params are held fixed; unsupported and bad requests fail clearly",
           "[identify][dynamic]") {
   Model truth = potential("bistable");
@@ -251,5 +285,26 @@ TEST_CASE("calibration study: impact stops on the monostable potential over 8 se
     WARN("seed " << seed << " zk " << (f.param("k_stop") - 48.0) / f.stderr_.at("k_stop") << " zg "
                  << (f.param("gap") - 0.554) / f.stderr_.at("gap") << " zgn " << (f.param("gap_neg") - 0.586) / f.stderr_.at("gap_neg")
                  << " zb " << (r.model.drift_coef("y") + 0.1) / r.model.drift_stderr.at("y") << " terms " << model_to_json(r.model)["drift"].dump());
+  }
+}
+
+TEST_CASE("calibration study: harmonic forcing on the bistable potential over 8 seeds", "[.calibration]") {
+  Model truth = potential("bistable");
+  Effect e;
+  e.id = EffectId::HarmonicForcing;
+  e.params = {{"amplitude", 0.08}, {"omega", 1.2}, {"phase", 0.7}};
+  truth.effects = {e};
+  for (int seed = 1; seed <= 8; ++seed) {
+    const Dataset d = simulate_hidden(truth, 8000 + seed, 8, 40000);
+    identify::Options io = options_for(truth);
+    Effect req;
+    req.id = EffectId::HarmonicForcing;
+    io.effects = {req};
+    const identify::Result r = identify::identify(d, io);
+    const Effect& f = r.model.effects[0];
+    WARN("seed " << seed << " zA " << (f.param("amplitude") - 0.08) / f.stderr_.at("amplitude") << " zw "
+                 << (f.param("omega") - 1.2) / f.stderr_.at("omega") << " zphi "
+                 << std::remainder(f.param("phase") - 0.7, 2 * M_PI) / f.stderr_.at("phase") << " zb "
+                 << (r.model.drift_coef("y") + 0.1) / r.model.drift_stderr.at("y"));
   }
 }
