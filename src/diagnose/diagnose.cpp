@@ -487,8 +487,9 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
       try {
         const UnitSpan& s = units[static_cast<std::size_t>(j)];
         const Record& rec = d.records[s.record];
-        detail::compute_unit(setup, d.x_of(rec), model.uses_drive() ? d.u_of(rec) : nullptr, rec.size,
-                             rec.t0, s, one[static_cast<std::size_t>(j)]);
+        // the drive is the data's (twins are driven by it; their datasets need not carry it)
+        detail::compute_unit(setup, d.x_of(rec), model.uses_drive() ? data.u_of(data.records[s.record]) : nullptr,
+                             rec.size, rec.t0, s, one[static_cast<std::size_t>(j)]);
       } catch (...) {
         std::lock_guard<std::mutex> lock(mtx);
         if (!failure) failure = std::current_exception();
@@ -711,7 +712,10 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
     std::string name, what;
     DiffFn f;
     int p;
-    bool parameter_sensitive;  ///< the model's parameter uncertainty moves it (stationary, x spectrum)
+    /// the model's parameter uncertainty moves it (stationary statistics, x spectrum, and the
+    /// residual shapes: data residuals are whitened by fitted coefficients whose error and
+    /// estimator bias the twins do not share)
+    bool parameter_sensitive;
   };
   std::vector<Paired> paired;
   auto shape_fn = [&](bool noise) -> DiffFn {
@@ -726,11 +730,11 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
   paired.push_back({"drift_shape",
                     "mean of the whitened residual times low-order functions of (x, v) (polynomials to third order, "
                     "sign(v), v|v|): smooth misfits of the drift such as missing damping or stiffness terms",
-                    shape_fn(false), detail::kDriftShape, false});
+                    shape_fn(false), detail::kDriftShape, true});
   paired.push_back({"noise_shape",
                     "mean of the squared whitened residual times polynomials of (x, v) to second order: a22 with the "
                     "wrong dependence on x or v (e.g. velocity-dependent noise)",
-                    shape_fn(true), detail::kNoiseShape, false});
+                    shape_fn(true), detail::kNoiseShape, true});
   paired.push_back({"residual_spectrum",
                     "log spectrum of the whitened residuals in log-spaced frequency bands (memory, periodic forcing)",
                     spectrum_fn(edges_r, true), static_cast<int>(edges_r.size()) - 1, false});
@@ -829,8 +833,9 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
           for (long j = 0; j < static_cast<long>(units.size()); ++j) {
             const UnitSpan& sp = units[static_cast<std::size_t>(j)];
             const Record& rec = star_twin.records[sp.record];
-            detail::compute_unit(setup, star_twin.x_of(rec), nullptr, rec.size, rec.t0, sp,
-                                 star[static_cast<std::size_t>(j)], true);
+            detail::compute_unit(setup, star_twin.x_of(rec),
+                                 model.uses_drive() ? data.u_of(data.records[sp.record]) : nullptr, rec.size,
+                                 rec.t0, sp, star[static_cast<std::size_t>(j)], true);
           }
           for (std::size_t k = 0; k < paired.size(); ++k) {
             if (!paired[k].parameter_sensitive) continue;

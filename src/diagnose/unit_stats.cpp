@@ -72,6 +72,7 @@ void compute_unit(const StatsSetup& s, const double* x, const double* u, std::si
   const std::size_t m = i1 - i0;
   thread_local std::vector<double> r;
   r.assign(stationary_only ? 0 : m, 0.0);
+  double f[kDriftShape];
   const int ncv = static_cast<int>(s.cell_v.size()) + 1;
   const bool wells = s.wells() >= 2;
   int last_core = -1;
@@ -79,26 +80,25 @@ void compute_unit(const StatsSetup& s, const double* x, const double* u, std::si
     double xi, v, a;
     L.at(x, i, xi, v, a);
     bool ok = false;
-    const double ri = stationary_only ? 0.0
-                                      : s.lens->residual(xi, v, a, u ? u[i] : 0.0,
-                                                         t0 + static_cast<double>(i) * s.dt, ok);
+    const double ri = s.lens->residual(xi, v, a, u ? u[i] : 0.0, t0 + static_cast<double>(i) * s.dt, ok);
     if (ok) {
-      r[i - i0] = ri;
-      double* mb = out.map.data() + static_cast<std::size_t>(s.map_index(xi, v)) * 5;
       const double r2 = ri * ri;
-      mb[0] += 1.0;
-      mb[1] += ri;
-      mb[2] += r2;
-      mb[3] += r2 * ri;
-      mb[4] += r2 * r2;
+      if (!stationary_only) {
+        r[i - i0] = ri;
+        double* mb = out.map.data() + static_cast<std::size_t>(s.map_index(xi, v)) * 5;
+        mb[0] += 1.0;
+        mb[1] += ri;
+        mb[2] += r2;
+        mb[3] += r2 * ri;
+        mb[4] += r2 * r2;
+      }
       out.r1 += ri;
       out.r2 += r2;
-      double f[kDriftShape];
       shape_basis((xi - s.shape_xc) / s.shape_xs, v / s.shape_vs, f);
       for (int k = 0; k < kDriftShape; ++k) out.drift_shape[static_cast<std::size_t>(k)] += ri * f[k];
       for (int k = 0; k < kNoiseShape; ++k) out.noise_shape[static_cast<std::size_t>(k)] += r2 * f[k];
       out.rows += 1.0;
-    } else if (!stationary_only) {
+    } else {
       out.invalid_rows += 1.0;
     }
     const int cx = static_cast<int>(std::upper_bound(s.cell_x.begin(), s.cell_x.end(), xi) - s.cell_x.begin());

@@ -96,8 +96,9 @@ struct UnitStats {
 };
 
 /// Statistics of one unit of a record (x, optional drive u, t0 of the record). With
-/// `stationary_only` only the occupation, moment, well and x-spectrum statistics are computed
-/// (no residuals, residual spectra, histograms or ACFs) — for the parameter-uncertainty draws.
+/// `stationary_only` only the occupation, moment, well, residual-shape and x-spectrum statistics
+/// are computed (no one-step map, residual spectra, histograms or ACFs) — for the
+/// parameter-uncertainty draws.
 void compute_unit(const StatsSetup& s, const double* x, const double* u, std::size_t n, double t0,
                   const UnitSpan& span, UnitStats& out, bool stationary_only = false);
 
