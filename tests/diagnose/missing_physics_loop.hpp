@@ -37,7 +37,8 @@ inline vehs::Model excited(vehs::Model m, double two_d) {
 inline std::string describe(const Result& r) {
   std::string s = r.verdict + " score " + std::to_string(r.score) + ":";
   for (const auto& c : r.components)
-    s += " " + c.name + " p=" + (c.test.available ? std::to_string(c.test.p_value) : "n/a");
+    s += " " + c.name + " p=" + (c.test.available ? std::to_string(c.test.p_value) : "n/a") +
+         (c.name == "residual_lines" ? " (" + c.test.method + ")" : "");
   s += " | suspects:";
   for (const auto& sp : r.suspects.ranked)
     s += " " + sp.effect + " " + std::to_string(sp.evidence) + " (z " + std::to_string(sp.z) + ")";
