@@ -84,6 +84,10 @@ const ConfigSchema& app_schema() {
            "Rank missing effects: true/false, or {\"z_threshold\": 3, \"min_blocks\": 20, \"effects\": [names]} "
            "(significance of the held-out gain, held-out blocks for its standard error, effects to try).",
            "true"},
+          {"suspect_samples", "number",
+           "The suspects use whole records, in order, up to this many samples (their refits are the slowest "
+           "part of a run); 0: all data.",
+           "4e6"},
           {"alpha", "number", "Family-wise level of the verdict (Bonferroni over the components).", "0.01"},
           {"lens", "string",
            "Kinematics: auto (the model file's estimator, else the data's sampling diagnosis), forward (data from "
@@ -150,6 +154,7 @@ Options options_from_config(const Config& c) {
       c.fail("suspects", "must be true, false or an object");
     }
   }
+  o.suspect_samples = c.non_negative_or("suspect_samples", 4e6);
   o.alpha = c.positive_or("alpha", 0.01);
   if (!(o.alpha < 0.5)) c.fail("alpha", "must be in (0, 0.5)");
   o.lens = enum_from_string(kLensNames, c.string_or("lens", "auto"), c.where("lens"));

@@ -39,6 +39,7 @@ std::string Options::invalid_reason() const {
   if (!(alpha > 0.0 && alpha < 0.5)) return "alpha must be in (0, 0.5)";
   if (fpk_cells < 20 || fpk_cells > 2000) return "fpk_cells must be in [20, 2000]";
   if (!(expected_dt >= 0.0)) return "dt must be > 0";
+  if (!(suspect_samples >= 0.0)) return "suspect_samples must be >= 0";
   if (parameter_draws < 2 || parameter_draws > 200) return "parameter_draws must be in [2, 200]";
   if (!(parameter_fit_samples >= 1e4)) return "parameter_fit_samples must be >= 10000";
   return suspects.invalid_reason();
@@ -1121,7 +1122,26 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
 
   // ---- suspects
   if (opt.suspects.enabled) {
-    res.suspects = rank_suspects(model, data, lens, opt.suspects, opt.progress);
+    if (opt.suspect_samples > 0.0 && static_cast<double>(data.total_samples()) > opt.suspect_samples) {
+      // whole records, in order, up to suspect_samples samples (at least min_blocks records)
+      Dataset sub;
+      for (const auto& r : data.records) {
+        if (static_cast<double>(sub.x.size() + r.size) > opt.suspect_samples &&
+            sub.records.size() >= static_cast<std::size_t>(opt.suspects.min_blocks))
+          break;
+        Record nr = r;
+        nr.offset = sub.x.size();
+        sub.x.insert(sub.x.end(), data.x_of(r), data.x_of(r) + r.size);
+        if (data.has_u()) sub.u.insert(sub.u.end(), data.u_of(r), data.u_of(r) + r.size);
+        sub.records.push_back(nr);
+      }
+      res.suspects = rank_suspects(model, sub, lens, opt.suspects, opt.progress);
+      res.suspects.note += (res.suspects.note.empty() ? "" : " ") + std::string("suspects fitted on the first ") +
+                           std::to_string(sub.records.size()) + " of " + std::to_string(data.records.size()) +
+                           " records (" + std::to_string(sub.x.size()) + " samples; suspect_samples)";
+    } else {
+      res.suspects = rank_suspects(model, data, lens, opt.suspects, opt.progress);
+    }
     lap(res, "suspects");
   }
   // ... are also a test of the model: each is a held-out likelihood comparison with a larger model

@@ -27,7 +27,11 @@
 //       wells              probability per well and well-to-well transition rate (multi-well
 //                          models; wells from the model's potential, transitions counted with
 //                          hysteresis between the wells' cores);
-//       acf                band-averaged log power spectrum of x (the Fourier pair of its ACF).
+//       acf                band-averaged log power spectrum of x (the Fourier pair of its ACF);
+//       residual_lines     the largest single-frequency excess of the residual spectrum (a line:
+//                          periodic forcing), one-sided t over units, Bonferroni over the bins;
+//       suspects           the largest held-out z of the catalogue effects the model lacks (a test
+//                          against named alternatives, Bonferroni over the effects; see 5.).
 //  4. Each component is a calibrated test with a p-value; its size is the excess normalised
 //     chi-square max(0, χ²/dof − 1). score = Σ sizes (lower is better; ≈ 0 for an adequate
 //     model; comparable between models fitted to the same data). verdict = inadequate when any
@@ -96,6 +100,9 @@ struct Options {
   int fpk_cells = 160;                 ///< per axis
   // ---- suspects
   SuspectOptions suspects;
+  /// The suspects use whole records, in order, up to this many samples (their refits of dynamic
+  /// effects are the slowest part of a run; 0: all data).
+  double suspect_samples = 4e6;
   bool progress = false;
 
   std::string invalid_reason() const;
