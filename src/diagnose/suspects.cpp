@@ -21,9 +21,7 @@ const std::vector<SuspectEntry>& suspect_table() {
       {EffectId::ImpactStop, SuspectMethod::DynamicForce, ""},
       {EffectId::HarmonicForcing, SuspectMethod::DynamicForce, ""},
       {EffectId::ElectromechanicalCoupling, SuspectMethod::DynamicForce, ""},
-      {EffectId::ColoredNoise, SuspectMethod::NotYet,
-       "hidden state: identify cannot fit it yet (low-frequency excess in the residual "
-       "spectrum is its signature)"},
+      {EffectId::ColoredNoise, SuspectMethod::ColoredExcitation, ""},
       {EffectId::VelocityDependentNoise, SuspectMethod::DiffusionTerms, ""},
   };
   return table;
@@ -147,13 +145,13 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
   for (const auto* c : candidates) {
     const std::string name = enum_to_string(kEffectNames, c->id);
     std::vector<std::string> added;
-    if (c->method == SuspectMethod::DynamicForce) {
+    if (c->method == SuspectMethod::DynamicForce || c->method == SuspectMethod::ColoredExcitation) {
       if (model.find_effect(c->id)) {
         rep.untested.emplace_back(name, "already in the model");
         prog.advance();
         continue;
       }
-      added.push_back(name + " (dynamic force)");
+      added.push_back(name + (c->method == SuspectMethod::DynamicForce ? " (dynamic force)" : " (OU excitation)"));
     } else {
       Effect unit;
       unit.id = c->id;
@@ -254,9 +252,17 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
     // forces of the dynamic effects of every fit along the record (absolute time, hidden
     // states filtered from the record's start)
     std::vector<std::vector<double>> dyn(K);
-    for (std::size_t k = 0; k < K; ++k)
-      if (!fits[k].model.effects.empty()) identify::dynamic_force(fits[k].model.effects, data, rec, dyn[k],
-                                                           central ? lens.stride : 0);
+    for (std::size_t k = 0; k < K; ++k) {
+      if (fits[k].model.effects.empty()) continue;
+      identify::dynamic_force(fits[k].model.effects, data, rec, dyn[k], central ? lens.stride : 0);
+      // colored_noise: the excitation predicted from the record's past (rows up to i − 2k)
+      if (const Effect* cn = fits[k].model.find_effect(EffectId::ColoredNoise); cn && central) {
+        std::vector<double> pred;
+        identify::colored_prediction(*cn, fits[k].model.drift, fits[k].model.diffusion, x, u, rec.size, rec.dt,
+                                     lens.stride, pred);
+        for (std::size_t i = 0; i < rec.size; ++i) dyn[k][i] += pred[i];
+      }
+    }
     for (std::size_t i = b.begin; i < b.end; ++i) {
       double xi, v, a;
       lens.at(x, i, xi, v, a);
@@ -304,7 +310,9 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
     }
     Suspect sp;
     sp.effect = f.name;
-    sp.scale = diffusion ? "diffusion likelihood" : f.method == SuspectMethod::DynamicForce ? "drift contrast (dynamic force)" : "drift contrast";
+    sp.scale = diffusion ? "diffusion likelihood" : f.method == SuspectMethod::DynamicForce ? "drift contrast (dynamic force)"
+                 : f.method == SuspectMethod::ColoredExcitation ? "drift contrast (predicted OU excitation)"
+                                                                 : "drift contrast";
     sp.evidence = total;
     const double B = static_cast<double>(gain.size());
     double mean = total / B, ss = 0.0;
@@ -317,7 +325,7 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
     }
     sp.held_out_significant = sp.z > options.z_threshold && sp.evidence > 0.0;
     sp.significant = sp.held_out_significant;
-    if (f.method == SuspectMethod::DynamicForce) {
+    if (f.method == SuspectMethod::DynamicForce || f.method == SuspectMethod::ColoredExcitation) {
       if (const Effect* fe = f.model.find_effect(f.effect.id)) {
         for (const auto& [key, val] : fe->params) sp.params[key] = val;
         for (const auto& [key, val] : fe->stderr_) sp.params_stderr[key] = val;

@@ -9,6 +9,7 @@
 #include "vehs/core/error.hpp"
 #include "vehs/core/parameters.hpp"
 #include "vehs/core/table.hpp"
+#include "vehs/identify/dynamic.hpp"
 #include "vehs/io/measurements.hpp"
 
 namespace vehs::identify {
@@ -33,7 +34,11 @@ const char* const kEffectsHelp =
     "dv = (y - lambda*v) dt, v filtered from x itself; lambda on a log grid from 1/(record "
     "duration) to 0.2/h; weakly identifiable against damping and stiffness (its force at one "
     "frequency mixes both), so expect larger standard errors on beta, lambda and coupling. "
-    "colored_noise is not supported by identification yet. Details of the fit are written under "
+    "colored_noise (OU excitation, force eta with d eta = -eta/tau dt + sqrt(intensity)/tau dW): "
+    "tau and intensity from the exponential decay of the drift-residual autocovariance at lags >= "
+    "2 strides, drift refitted on Kalman prediction errors (GLS; unbiased damping), white a22 "
+    "from the residual variance minus the OU part; uses the uli estimator; cannot yet be combined "
+    "with the other dynamic effects. Details of the fit are written under "
     "\"dynamic_fit\".";
 
 std::vector<Term> parse_term_list(const Config& c, const std::string& key) {
@@ -245,7 +250,13 @@ Options options_from_config(const Config& c) {
       if (e.id == EffectId::HarmonicForcing && e.params.count("amplitude") && !e.params.count("phase"))
         throw Error(where + ".params.amplitude: harmonic_forcing's amplitude can only be held fixed together with phase");
       if (e.id == EffectId::ColoredNoise)
-        throw Error(where + ": colored_noise cannot be identified yet (its suspect is not tested either)");
+        for (const auto& prev : o.effects)
+          if (is_dynamic(prev.id) && prev.id != e.id)
+            throw Error(where + ": colored_noise cannot yet be combined with the dynamic effect '" + prev.name() + "'");
+      if (is_dynamic(e.id) && e.id != EffectId::ColoredNoise)
+        for (const auto& prev : o.effects)
+          if (prev.id == EffectId::ColoredNoise)
+            throw Error(where + ": colored_noise cannot yet be combined with the dynamic effect '" + e.name() + "'");
       for (const auto& prev : o.effects)
         if (prev.id == e.id) throw Error(where + ": effect '" + e.name() + "' is listed twice");
       o.effects.push_back(e);

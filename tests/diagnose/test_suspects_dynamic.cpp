@@ -1,5 +1,5 @@
 // Suspects for the dynamic effects (impact stops, harmonic forcing, electromechanical
-// coupling): data simulated as a sensor samples a continuous process (fine internal steps) with
+// coupling, coloured OU excitation): data simulated as a sensor samples a continuous process (fine internal steps) with
 // the effect hidden, parameters drawn at random within physical ranges by the test; the baseline
 // (the potential's own terms) is fitted by identify; rank_suspects must rank the hidden effect
 // first and significant. Control data (no hidden effect) give no significant dynamic suspect.
@@ -134,6 +134,23 @@ TEST_CASE("suspects: control data without a hidden effect give no significant dy
   const auto r = suspects_of(baseline_fit(d), d);
   INFO(pot << ": " << describe(r));
   for (const auto& sp : r.ranked)
-    if (sp.effect == "impact_stop" || sp.effect == "harmonic_forcing" || sp.effect == "electromechanical_coupling")
+    if (sp.effect == "impact_stop" || sp.effect == "harmonic_forcing" || sp.effect == "electromechanical_coupling" ||
+        sp.effect == "colored_noise")
       CHECK_FALSE(sp.held_out_significant);
+}
+
+TEST_CASE("suspects: a hidden OU (coloured) excitation is ranked first and significant",
+          "[diagnose][suspects][dynamic]") {
+  const std::string pot = GENERATE(std::string("bistable"), std::string("monostable"));
+  std::mt19937_64 g(pot == "bistable" ? 74 : 75);
+  Model truth = potential(pot);
+  Effect e;
+  e.id = EffectId::ColoredNoise;
+  e.params = {{"tau", uniform(g, 0.2, 1.0)}, {"intensity", uniform(g, 0.02, 0.06)}};
+  truth.effects = {e};
+  const Dataset d = simulate_hidden(truth, 6000 + g() % 1000, 8, 40000);
+  const auto r = suspects_of(baseline_fit(d), d);
+  check_first(r, "colored_noise");
+  INFO(describe(r));
+  CHECK(r.ranked[0].params.value("tau", 0.0) == Approx(e.param("tau")).epsilon(0.3));
 }

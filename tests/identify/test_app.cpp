@@ -95,7 +95,7 @@ TEST_CASE("identify-vehs: bad configs and bad files fail with one line naming th
 
   // a library term that does not exist, an unknown estimator, a dynamic effect
   for (const char* extra : {R"("drift_library": ["x", "x^^2"])", R"("estimator": "magic")",
-                                   R"("effects": ["colored_noise"])", R"("study": {"truth": {}})"}) {
+                                   R"("effects": ["colored_noise", "harmonic_forcing"])", R"("study": {"truth": {}})"}) {
     write_text(cfg, "{\"data\": [\"" + csv.string() + "\"], \"output\": \"m.json\", " + std::string(extra) + "}");
     CHECK(run({cfg.string(), "--quiet"}, &err) == 1);
     INFO(err);

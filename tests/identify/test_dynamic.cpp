@@ -237,8 +237,10 @@ TEST_CASE("dynamic effects: given params are held fixed; unsupported and bad req
   CHECK_THROWS_WITH(identify::identify(d, o), Catch::Contains("amplitude can only be held fixed together with phase"));
   Effect cn;
   cn.id = EffectId::ColoredNoise;
-  o.effects = {cn};
-  CHECK_THROWS_WITH(identify::identify(d, o), Catch::Contains("not supported yet"));
+  Effect hf;
+  hf.id = EffectId::HarmonicForcing;
+  o.effects = {cn, hf};
+  CHECK_THROWS_WITH(identify::identify(d, o), Catch::Contains("cannot yet be combined"));
 }
 
 TEST_CASE("calibration study: electromechanical coupling over seeds (env NREC, NSEEDS, LAM, CPL, SSR, NOBURN)", "[.calibration]") {

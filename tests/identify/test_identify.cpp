@@ -203,13 +203,14 @@ TEST_CASE("unusable records are rejected with the record and row named", "[ident
   {
     identify::Options o;
     o.effects.push_back(effect_from_json("colored_noise", "test", false));
+    o.effects.push_back(effect_from_json("harmonic_forcing", "test", false));
     Dataset d;
     record(d, 1, good);
     try {
       identify::identify(d, o);
       FAIL("no error");
     } catch (const Error& e) {
-      CHECK(std::string(e.what()).find("not supported yet") != std::string::npos);
+      CHECK(std::string(e.what()).find("cannot yet be combined") != std::string::npos);
     }
   }
 }

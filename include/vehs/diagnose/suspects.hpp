@@ -1,6 +1,6 @@
 #pragma once
 // Suspects: which catalogue effect (contracts.md §4) missing from the model would the data
-// support? Issue 7: term-like effects and the dynamic forces (colored_noise not yet).
+// support? Issue 7: term-like effects, the dynamic forces and colored_noise.
 //
 // Procedure. Every record is split in time: the first (1 − holdout) of its samples train, the
 // rest is held out. On the training part, identify (vehs::identify::identify, the lens's
@@ -31,7 +31,12 @@
 // < 0) is listed as untested with the reason. When the model already has dynamic effects they are
 // refitted (all params free) in the baseline and in every candidate fit.
 //
-// colored_noise is not yet testable (identify cannot fit it); suspect_table() says so.
+// colored_noise (OU excitation η): identify fits tau, intensity, the drift (GLS on Kalman
+// prediction errors) and the white diffusion on the training part; on the held-out rows the
+// candidate's prediction is its drift plus the excitation predicted by a Kalman filter of the
+// residuals of the record's past (identify::colored_prediction, rows up to i − 2k, so the noise of
+// â_i is not used), scored with the same weighted drift contrast in nats. An OU excitation is
+// random, so only the predictable part counts: the gain grows with intensity/a22 and with tau/h.
 #include <string>
 #include <string_view>
 #include <vector>
@@ -48,6 +53,7 @@ enum class SuspectMethod {
   DriftTerms,      ///< term-like drift effect: identify with Options::effects, drift contrast
   DiffusionTerms,  ///< term-like diffusion effect: identify with Options::effects, diffusion likelihood
   DynamicForce,    ///< dynamic force (stops, forcing, hidden state): identify's profile fit, drift contrast
+  ColoredExcitation,  ///< colored_noise: identify's GLS fit, drift contrast with the predicted excitation
   NotYet,          ///< dynamic effect: identify cannot fit it yet
 };
 
