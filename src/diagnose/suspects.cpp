@@ -96,8 +96,15 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
     }
     candidates.push_back(&e);
   }
+  const bool model_colored = model.find_effect(EffectId::ColoredNoise) != nullptr;
   for (const auto& e : model.effects)
-    if (!identify::dynamic_fit_supported(e.id)) {
+    if (!identify::dynamic_fit_supported(e.id) || (model_colored && e.id != EffectId::ColoredNoise)) {
+      if (identify::dynamic_fit_supported(e.id)) {
+        rep.note = "the model has colored_noise together with the dynamic effect " + e.name() +
+                   ", which identify cannot refit together yet, so the baseline of the suspects cannot be fitted";
+        for (const auto* c : candidates) rep.untested.emplace_back(enum_to_string(kEffectNames, c->id), rep.note);
+        return rep;
+      }
       rep.note = "the model has the dynamic effect " + e.name() +
                  ", which identify cannot refit yet, so the baseline of the suspects cannot be fitted";
       for (const auto* c : candidates) rep.untested.emplace_back(enum_to_string(kEffectNames, c->id), rep.note);
