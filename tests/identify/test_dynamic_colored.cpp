@@ -7,6 +7,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <random>
 
 #include "identify_fixtures.hpp"
@@ -82,15 +84,18 @@ TEST_CASE("dynamic effects: colored_noise (OU time constant and intensity) on tw
   CHECK(dev.max_z <= 3.0);
 }
 
-TEST_CASE("calibration study: colored_noise over 10 seeds and both potentials (z of tau, intensity, damping)",
+TEST_CASE("calibration study: colored_noise over 10 seeds and both potentials (z of tau, intensity, damping; env CN_TAU, CN_INT, CN_SEEDS)",
           "[.calibration]") {
+  const int seeds = std::getenv("CN_SEEDS") ? std::atoi(std::getenv("CN_SEEDS")) : 10;
   for (const std::string pot : {"bistable", "monostable"})
-    for (int s = 0; s < 10; ++s) {
+    for (int s = 0; s < seeds; ++s) {
       std::mt19937_64 g(static_cast<std::uint64_t>(200 + s));
       Model truth = colored_potential(pot);
       Effect e;
       e.id = EffectId::ColoredNoise;
       e.params = {{"tau", draw(g, 0.2, 1.0)}, {"intensity", draw(g, 0.02, 0.06)}};
+      if (std::getenv("CN_TAU")) e.params["tau"] = std::atof(std::getenv("CN_TAU"));
+      if (std::getenv("CN_INT")) e.params["intensity"] = std::atof(std::getenv("CN_INT"));
       truth.effects = {e};
       const Dataset d = simulate_colored(truth, 7000 + static_cast<std::uint64_t>(s), 8, 40000);
       identify::Options o;
