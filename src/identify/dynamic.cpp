@@ -1501,6 +1501,7 @@ Result identify_colored(const Dataset& data, const Options& options) {
       const ColoredRows& R = rows[r];
       const std::size_t n = R.a.size();
       MatrixXd filt(n, p + 1);  // filtered state of each series (columns: ζ_1..ζ_p, â)
+      std::vector<double> Pf(n, s2);  // filter error variance after row i
       VectorXd mstate = VectorXd::Zero(p + 1), sv(p + 1), z(p), dz(p);
       double P = s2;
       for (std::size_t i = 0; i < n; ++i) {
@@ -1516,8 +1517,12 @@ Result identify_colored(const Dataset& data, const Options& options) {
         const double g = P / (P + Rv);
         mstate += g * (sv - mstate);
         P *= 1.0 - g;
+        Pf[i] = P;
         filt.row(static_cast<Index>(i)) = mstate.transpose();
         if (i < 2 * K) continue;
+        // v̂_i carries η over [t_{i−k}, t_{i+k}], which the prediction from row i − 2k does not
+        // see: Cov(v̂_i, e_i) ≈ 2h·P_pred (P_pred the variance of the prediction error)
+        const double Ppred = pk2 * pk2 * Pf[i - 2 * K] + s2 * (1.0 - pk2 * pk2);
         const auto prev = filt.row(static_cast<Index>(i - 2 * K));
         for (int j = 0; j < p; ++j) {
           z[j] = sv[j] - pk2 * prev[j];
@@ -1526,7 +1531,7 @@ Result identify_colored(const Dataset& data, const Options& options) {
         const double T = sv[p] - pk2 * prev[p];
         const std::size_t bl = r * per + std::min(per - 1, i * per / n);
         bG[bl].noalias() += z * z.transpose();
-        bb[bl] += z * T - 0.5 * a22i * dz;
+        bb[bl] += z * T - (0.5 * a22i + 2.0 * h * Ppred) * dz;
       }
     }
     for (std::size_t b = 0; b < nb; ++b) G += bG[b], bvec += bb[b];

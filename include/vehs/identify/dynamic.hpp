@@ -64,11 +64,12 @@
 //     through r with the long-run variance a22/Δt of the ULI noise) predicts η̄_i from rows
 //     ≤ i − 2k; the prediction is linear in the residuals, hence in the drift coefficients, so the
 //     same filter run on â and on every dictionary column gives T_i = â_i − η̂(â)_i and
-//     Z_i = ζ_i − η̂(ζ)_i, and G c = Σ Z T − ½ Σ a22 ∂_vζ (the usual Itô correction: the filtered
-//     columns use only samples before the noise of â_i). The prediction error is orthogonal to
-//     the past of x when the predictor is the conditional mean, so the bias left is O(h·P) (P the
-//     filter's error variance); the MA(1) noise is treated as white in the filter (suboptimal,
-//     still unbiased to that order).
+//     Z_i = ζ_i − η̂(ζ)_i, and G c = Σ Z T − Σ (½ a22 + 2h·P_pred) ∂_vζ: the usual Itô correction
+//     (the filtered columns use only samples before the noise of â_i) plus Cov(v̂_i, e_i) ≈
+//     2h·P_pred — v̂_i carries η over [t_{i−k}, t_{i+k}], which the prediction from row i − 2k
+//     does not see (P_pred the filter's prediction-error variance). The prediction error is
+//     otherwise orthogonal to the past of x when the predictor is the conditional mean; the MA(1)
+//     noise is treated as white with its long-run variance in the filter (suboptimal).
 //  3. white diffusion: E[r_i²] = σ²·Q + (2/3)·a22(x_i, v̂_i)/h, Q the tent self-average of the
 //     OU correlation (quadrature); least squares of (3h/2)(r² − σ²Q) on the diffusion library.
 //  Steps 1–3 are iterated (≤ 6 rounds, until τ and the drift change by < 0.1 %).
@@ -76,11 +77,10 @@
 // (≥ 20 contiguous batches; drift held at its estimate — its uncertainty is not propagated);
 // drift by the batch sandwich of the GLS estimating equations; diffusion by a batch sandwich.
 // Measured on 20 simulated data sets (τ ∈ [0.2, 1], intensity ∈ [0.02, 0.06], two potentials,
-// 8 × 400 s): |z| ≤ 2.35 for τ and intensity, drift and diffusion terms within 2.6 SE. Known
-// weakness: with short τ and a strong excitation (τ = 0.25, intensity ≈ 2·a22) the intensity
-// under-covers (z down to −3.8) and the damping keeps part of the LS bias (≈ 1.7 SE on average):
-// the filter learns little there, and v̂_i carries η of the last 2h that the prediction does not
-// use (E[v̂·e] ≈ 2h·P, not corrected) — see data/identify/README.md.
+// 8 × 400 s): |z| ≤ 1.84 for τ, ≤ 1.37 for intensity, drift and diffusion terms within 2.64 SE
+// in 19 of 20 (one damping at 3.44). Known weakness: with short τ and a strong excitation
+// (τ = 0.25, intensity ≈ 2·a22) the intensity under-covers (3 of 16 below z = −2.3, down to
+// −3.35) — see data/identify/README.md.
 // Not handled: sensor noise (noisy estimator), forward kinematics, combination with stops /
 // forcing / electromechanical coupling, held-fixed params of term-like effects.
 #include <cstddef>
