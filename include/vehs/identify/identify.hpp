@@ -91,7 +91,9 @@ struct Options {
   /// Effects of contracts.md §4. Term-like ones add their terms, kept through selection.
   /// Dynamic ones (impact_stop, harmonic_forcing, electromechanical_coupling) are fitted by
   /// profile least squares (vehs/identify/dynamic.hpp); params present in an entry are held
-  /// fixed. colored_noise is rejected (not supported yet).
+  /// fixed. colored_noise is fitted from the residual autocovariance with the drift refitted by
+  /// GLS on Kalman prediction errors (dynamic.hpp); it cannot yet be combined with the other
+  /// dynamic effects or with sensor noise (one-line error).
   std::vector<Effect> effects;
   /// Known force per sample (aligned with Dataset::x), subtracted from the acceleration
   /// target; used by the dynamic-effect fit (not with dynamic effects in `effects`).
