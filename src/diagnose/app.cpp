@@ -191,6 +191,9 @@ int run_app_body(Config& c, const AppOptions& app) {
   const std::string model_file = mv.is_string() ? mv.get<std::string>() : std::string("(inline)");
   const Model model = model_from_config_value(mv, c.where("model"));
   validate_model(model, model_file);
+  require(!model.drift.empty(), model_file + ": the model has no drift terms (a model file needs a 'drift' object)");
+  require(!model.diffusion.empty(),
+          model_file + ": the model has no diffusion terms (a model file needs a 'diffusion' object)");
   const std::string label =
       c.has("label") ? c.string("label") : (mv.is_string() ? fs::path(model_file).stem().string() : "inline model");
   // data
