@@ -22,20 +22,6 @@ std::string default_report(const std::string& output) {
   return (p.parent_path() / (p.stem().string() + "_report")).string();
 }
 
-void remove_means(Dataset& d) {
-  for (const auto& r : d.records) {
-    auto center = [&](std::vector<double>& col) {
-      if (col.empty()) return;
-      double m = 0.0;
-      for (std::size_t i = 0; i < r.size; ++i) m += col[r.offset + i];
-      m /= static_cast<double>(r.size);
-      for (std::size_t i = 0; i < r.size; ++i) col[r.offset + i] -= m;
-    };
-    center(d.x);
-    center(d.u);
-  }
-}
-
 std::string g(double v, int digits = 4) {
   char b[64];
   std::snprintf(b, sizeof b, "%.*g", digits, v);
@@ -214,7 +200,7 @@ int run_app_body(Config& c, const AppOptions& app) {
   Dataset data = read_measurements(files, ro);
   const std::string detrend = c.string_or("detrend", "none");
   if (detrend == "mean")
-    remove_means(data);
+    subtract_record_means(data);
   else if (detrend != "none")
     c.fail("detrend", "must be \"none\" or \"mean\" (got \"" + detrend + "\")");
 

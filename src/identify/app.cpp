@@ -118,21 +118,6 @@ sim::InitialCondition parse_x0(const Config& c, const std::string& key, int reco
   c.fail(key, "must be {\"uniform\": [a, b]} or a list of one value per record");
 }
 
-/// Subtracts each record's mean from x (and u): DC offsets of real sensors.
-void remove_means(Dataset& d) {
-  for (const auto& r : d.records) {
-    auto center = [&](std::vector<double>& col) {
-      if (col.empty()) return;
-      double m = 0.0;
-      for (std::size_t i = 0; i < r.size; ++i) m += col[r.offset + i];
-      m /= static_cast<double>(r.size);
-      for (std::size_t i = 0; i < r.size; ++i) col[r.offset + i] -= m;
-    };
-    center(d.x);
-    center(d.u);
-  }
-}
-
 std::string g(double v, int digits = 6) {
   std::ostringstream os;
   os.precision(digits);
@@ -358,7 +343,7 @@ int run_app_body(Config& c, const AppOptions& app) {
   Dataset data = read_measurements(files, ro);
   const std::string detrend = c.string_or("detrend", "none");
   if (detrend == "mean")
-    remove_means(data);
+    subtract_record_means(data);
   else if (detrend != "none")
     c.fail("detrend", "must be \"none\" or \"mean\" (got \"" + detrend + "\")");
   Result r = identify(data, o);

@@ -18,6 +18,18 @@ namespace vehs::identify {
 
 namespace {
 
+/// Appends fitted dynamic effects (params with stderr) to the model file's "effect_params" list.
+void append_effect_params(Model& model, const std::vector<Effect>& fitted) {
+  nlohmann::ordered_json& ep = model.extra["effect_params"];
+  if (!ep.is_array()) ep = nlohmann::ordered_json::array();
+  for (const auto& e : fitted) {
+    nlohmann::ordered_json j = effect_to_json(e);
+    if (!j.contains("stderr")) j["stderr"] = nlohmann::ordered_json::object();
+    ep.push_back(std::move(j));
+  }
+}
+
+
 using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
@@ -1180,14 +1192,7 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
       "errors of (terms, linear, nonlinear) with batch means; then identify refits terms and "
       "diffusion with the fitted dynamic force subtracted from the target";
   res.model.extra["dynamic_fit"] = info;
-  nlohmann::ordered_json ep = res.model.extra.contains("effect_params") ? res.model.extra["effect_params"]
-                                                                        : nlohmann::ordered_json::array();
-  for (const auto& e : fitted) {
-    nlohmann::ordered_json j = effect_to_json(e);
-    if (!j.contains("stderr")) j["stderr"] = nlohmann::ordered_json::object();
-    ep.push_back(j);
-  }
-  res.model.extra["effect_params"] = ep;
+  append_effect_params(res.model, fitted);
   return res;
 }
 
@@ -1612,12 +1617,7 @@ Result identify_colored(const Dataset& data, const Options& options) {
       "contiguous batches (tau, intensity; drift held at its estimate), IV sandwich with batch sums "
       "(drift), batch sandwich (diffusion)";
   out.model.extra["dynamic_fit"] = info;
-  nlohmann::ordered_json ep = out.model.extra.contains("effect_params") ? out.model.extra["effect_params"]
-                                                                        : nlohmann::ordered_json::array();
-  nlohmann::ordered_json j = effect_to_json(fitted);
-  if (!j.contains("stderr")) j["stderr"] = nlohmann::ordered_json::object();
-  ep.push_back(j);
-  out.model.extra["effect_params"] = ep;
+  append_effect_params(out.model, {fitted});
   return out;
 }
 

@@ -564,4 +564,18 @@ void write_measurements(const std::string& path, const Dataset& data, const Writ
   });
 }
 
+void subtract_record_means(Dataset& data) {
+  for (const auto& r : data.records) {
+    auto center = [&](std::vector<double>& col) {
+      if (col.empty()) return;
+      double m = 0.0;
+      for (std::size_t i = 0; i < r.size; ++i) m += col[r.offset + i];
+      m /= static_cast<double>(r.size);
+      for (std::size_t i = 0; i < r.size; ++i) col[r.offset + i] -= m;
+    };
+    center(data.x);
+    center(data.u);
+  }
+}
+
 }  // namespace vehs

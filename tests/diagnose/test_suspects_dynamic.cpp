@@ -14,29 +14,12 @@
 #include "vehs/identify/identify.hpp"
 #include "vehs/sim/simulate.hpp"
 
+#include "../identify/identify_fixtures.hpp"
+
 using namespace vehs;
+using namespace vehs_test;
 
 namespace {
-
-Model potential(const std::string& which) {
-  const char* json = which == "bistable"
-                         ? R"({"drift": {"x": 1.0, "x^3": -1.0, "y": -0.1}, "diffusion": {"1": 0.02, "x^2": 0.01}})"
-                         : R"({"drift": {"x": -1.0, "x^3": -1.0, "y": -0.1}, "diffusion": {"1": 0.02, "x^2": 0.01}})";
-  return model_from_json(nlohmann::json::parse(json), which);
-}
-
-Dataset simulate_hidden(const Model& m, std::uint64_t seed, int records, std::size_t samples) {
-  sim::SimulationOptions o;
-  o.dt = 0.01;
-  o.substeps = 10;
-  o.records = records;
-  o.samples = samples;
-  o.seed = seed;
-  o.scheme = sim::Scheme::Taylor15;
-  o.burn_in = 20.0;
-  o.record_y = false;
-  return sim::simulate(m, o);
-}
 
 /// The baseline the user would have: the potential's terms, fitted by identify.
 Model baseline_fit(const Dataset& d) {
@@ -64,8 +47,6 @@ std::string describe(const diagnose::SuspectReport& r) {
   return s;
 }
 
-double uniform(std::mt19937_64& g, double a, double b) { return std::uniform_real_distribution<double>(a, b)(g); }
-
 void check_first(const diagnose::SuspectReport& r, const std::string& effect) {
   INFO(describe(r));
   REQUIRE_FALSE(r.ranked.empty());
@@ -79,7 +60,7 @@ void check_first(const diagnose::SuspectReport& r, const std::string& effect) {
 TEST_CASE("suspects: hidden harmonic forcing is ranked first and significant",
           "[diagnose][suspects][dynamic]") {
   std::mt19937_64 g(71);
-  Model truth = potential("bistable");
+  Model truth = hidden_effect_potential("bistable");
   Effect e;
   e.id = EffectId::HarmonicForcing;
   e.params = {{"amplitude", uniform(g, 0.05, 0.12)}, {"omega", uniform(g, 0.6, 2.0)}, {"phase", uniform(g, -3.0, 3.0)}};
@@ -93,7 +74,7 @@ TEST_CASE("suspects: hidden harmonic forcing is ranked first and significant",
 TEST_CASE("suspects: hidden impact stops are ranked first and significant",
           "[diagnose][suspects][dynamic]") {
   std::mt19937_64 g(72);
-  Model truth = potential("monostable");
+  Model truth = hidden_effect_potential("monostable");
   // gaps at a random upper quantile of |x| of the same system without stops
   const Dataset free_run = simulate_hidden(truth, 5, 2, 20000);
   std::vector<double> pos, neg;
@@ -115,7 +96,7 @@ TEST_CASE("suspects: hidden impact stops are ranked first and significant",
 TEST_CASE("suspects: a hidden electromechanical state is ranked first and significant",
           "[diagnose][suspects][dynamic]") {
   std::mt19937_64 g(73);
-  Model truth = potential("bistable");
+  Model truth = hidden_effect_potential("bistable");
   Effect e;
   e.id = EffectId::ElectromechanicalCoupling;
   e.params = {{"lambda", uniform(g, 0.6, 1.4)}, {"coupling", uniform(g, 0.3, 0.6)}};
@@ -129,7 +110,7 @@ TEST_CASE("suspects: a hidden electromechanical state is ranked first and signif
 TEST_CASE("suspects: control data without a hidden effect give no significant dynamic suspect",
           "[diagnose][suspects][dynamic]") {
   const std::string pot = GENERATE(std::string("bistable"), std::string("monostable"));
-  const Model truth = potential(pot);
+  const Model truth = hidden_effect_potential(pot);
   const Dataset d = simulate_hidden(truth, pot == "bistable" ? 4001 : 4002, 8, 40000);
   const auto r = suspects_of(baseline_fit(d), d);
   INFO(pot << ": " << describe(r));
@@ -143,7 +124,7 @@ TEST_CASE("suspects: a hidden OU (coloured) excitation is ranked first and signi
           "[diagnose][suspects][dynamic]") {
   const std::string pot = GENERATE(std::string("bistable"), std::string("monostable"));
   std::mt19937_64 g(pot == "bistable" ? 74 : 75);
-  Model truth = potential(pot);
+  Model truth = hidden_effect_potential(pot);
   Effect e;
   e.id = EffectId::ColoredNoise;
   e.params = {{"tau", uniform(g, 0.2, 1.0)}, {"intensity", uniform(g, 0.02, 0.06)}};

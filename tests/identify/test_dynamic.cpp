@@ -17,41 +17,6 @@ using namespace vehs_test;
 
 namespace {
 
-Model potential(const std::string& which) {
-  if (which == "bistable")
-    return model_from_json(nlohmann::json::parse(R"({"drift": {"x": 1.0, "x^3": -1.0, "y": -0.1},
-        "diffusion": {"1": 0.02, "x^2": 0.01}})"), "bistable");
-  return model_from_json(nlohmann::json::parse(R"({"drift": {"x": -1.0, "x^3": -1.0, "y": -0.1},
-      "diffusion": {"1": 0.02, "x^2": 0.01}})"), "monostable");
-}
-
-Dataset simulate_hidden(const Model& m, std::uint64_t seed, int records = 8, std::size_t samples = 40000) {
-  sim::SimulationOptions o;
-  o.dt = 0.01;
-  o.substeps = 10;
-  o.records = records;
-  o.samples = samples;
-  o.seed = seed;
-  o.scheme = sim::Scheme::Taylor15;
-  o.burn_in = std::getenv("NOBURN") ? 0.0 : 20.0;
-  o.record_y = false;
-  return sim::simulate(m, o);
-}
-
-double uniform(std::mt19937_64& g, double a, double b) { return std::uniform_real_distribution<double>(a, b)(g); }
-
-/// Fitted effect parameter vs truth: |Δ| ≤ 3 SE and ≤ 15 %.
-void check_param(const Effect& fitted, const std::string& name, double truth) {
-  const double v = fitted.param(name);
-  const double se = fitted.stderr_.at(name);
-  INFO(fitted.name() << "." << name << ": true " << truth << ", fitted " << v << " +- " << se
-                     << " (z = " << (v - truth) / se << ")");
-  CHECK(std::isfinite(se));
-  CHECK(se > 0.0);
-  CHECK(std::abs(v - truth) <= 3.0 * se);
-  CHECK(std::abs(v - truth) <= 0.15 * std::abs(truth));
-}
-
 identify::Options options_for(const Model& base) {
   identify::Options o;
   // x^2 as a distractor the selection must drop (x^5 is left out: over the small range of a
@@ -77,7 +42,7 @@ TEST_CASE("dynamic effects: harmonic forcing (frequency, amplitude, phase) on tw
           "[identify][dynamic][harmonic]") {
   const std::string pot = GENERATE(std::string("bistable"), std::string("monostable"));
   std::mt19937_64 g(pot == "bistable" ? 11 : 12);
-  Model truth = potential(pot);
+  Model truth = hidden_effect_potential(pot);
   Effect e;
   e.id = EffectId::HarmonicForcing;
   e.params = {{"amplitude", uniform(g, 0.05, 0.12)}, {"omega", uniform(g, 0.6, 2.0)}, {"phase", uniform(g, -3.0, 3.0)}};
@@ -91,8 +56,8 @@ TEST_CASE("dynamic effects: harmonic forcing (frequency, amplitude, phase) on tw
   INFO(pot << ": " << model_to_json(r.model)["dynamic_fit"].dump() << " drift " << model_to_json(r.model)["drift"].dump() << " estimator " << model_to_json(r.model)["estimator"]["used"].dump());
   REQUIRE(r.model.effects.size() == 1);
   const Effect& f = r.model.effects[0];
-  check_param(f, "omega", e.param("omega"));
-  check_param(f, "amplitude", e.param("amplitude"));
+  check_effect_param(f, "omega", e.param("omega"));
+  check_effect_param(f, "amplitude", e.param("amplitude"));
   // phase: compare on the circle
   {
     const double dphi = std::remainder(f.param("phase") - e.param("phase"), 2.0 * M_PI);
@@ -114,7 +79,7 @@ TEST_CASE("dynamic effects: impact stops (stiffness and both gaps) on two potent
           "[identify][dynamic][impact]") {
   const std::string pot = GENERATE(std::string("bistable"), std::string("monostable"));
   std::mt19937_64 g(pot == "bistable" ? 21 : 22);
-  Model truth = potential(pot);
+  Model truth = hidden_effect_potential(pot);
   // gaps at a random quantile of |x| of the same system without stops
   const Dataset free_run = simulate_hidden(truth, 5, 2, 20000);
   std::vector<double> ax(free_run.x.begin(), free_run.x.end());
@@ -138,9 +103,9 @@ TEST_CASE("dynamic effects: impact stops (stiffness and both gaps) on two potent
   INFO(pot << ": " << model_to_json(r.model)["dynamic_fit"].dump() << " drift " << model_to_json(r.model)["drift"].dump() << " estimator " << model_to_json(r.model)["estimator"]["used"].dump());
   REQUIRE(r.model.effects.size() == 1);
   const Effect& f = r.model.effects[0];
-  check_param(f, "k_stop", e.param("k_stop"));
-  check_param(f, "gap", e.param("gap"));
-  check_param(f, "gap_neg", e.param("gap_neg"));
+  check_effect_param(f, "k_stop", e.param("k_stop"));
+  check_effect_param(f, "gap", e.param("gap"));
+  check_effect_param(f, "gap_neg", e.param("gap_neg"));
   truth.effects.clear();
   check_baseline(r.model, truth);
 }
@@ -154,7 +119,7 @@ TEST_CASE("dynamic effects: electromechanical coupling (time constant and coupli
           "[identify][dynamic][electro]") {
   const std::string pot = "monostable";
   std::mt19937_64 g(32);
-  Model truth = potential(pot);
+  Model truth = hidden_effect_potential(pot);
   Effect e;
   e.id = EffectId::ElectromechanicalCoupling;
   e.params = {{"lambda", uniform(g, 0.6, 1.4)}, {"coupling", uniform(g, 0.3, 0.6)}};
@@ -171,8 +136,8 @@ TEST_CASE("dynamic effects: electromechanical coupling (time constant and coupli
   INFO(pot << ": " << model_to_json(r.model)["dynamic_fit"].dump() << " drift " << model_to_json(r.model)["drift"].dump() << " estimator " << model_to_json(r.model)["estimator"]["used"].dump());
   REQUIRE(r.model.effects.size() == 1);
   const Effect& f = r.model.effects[0];
-  check_param(f, "lambda", e.param("lambda"));
-  check_param(f, "coupling", e.param("coupling"));
+  check_effect_param(f, "lambda", e.param("lambda"));
+  check_effect_param(f, "coupling", e.param("coupling"));
   truth.effects.clear();
   check_baseline(r.model, truth);
 }
@@ -182,7 +147,7 @@ TEST_CASE("dynamic effects: stops and forcing together, with spurious library te
   // a selection made without the effects absorbs the stops into x^5 (x^3 changes sign); the
   // first profile fit must run on the full library and the final selection drop x^2 and x^5
   std::mt19937_64 g(41);
-  Model truth = potential("bistable");
+  Model truth = hidden_effect_potential("bistable");
   Effect stop, force;
   stop.id = EffectId::ImpactStop;
   stop.params = {{"k_stop", uniform(g, 30.0, 60.0)}, {"gap", uniform(g, 1.25, 1.35)}, {"gap_neg", uniform(g, 1.2, 1.3)}};
@@ -204,8 +169,8 @@ TEST_CASE("dynamic effects: stops and forcing together, with spurious library te
   const Effect* ff = r.model.find_effect(EffectId::HarmonicForcing);
   REQUIRE(fs);
   REQUIRE(ff);
-  for (const char* k : {"k_stop", "gap", "gap_neg"}) check_param(*fs, k, stop.param(k));
-  for (const char* k : {"amplitude", "omega"}) check_param(*ff, k, force.param(k));
+  for (const char* k : {"k_stop", "gap", "gap_neg"}) check_effect_param(*fs, k, stop.param(k));
+  for (const char* k : {"amplitude", "omega"}) check_effect_param(*ff, k, force.param(k));
   truth.effects.clear();
   CHECK(names(r.model.drift) == names(truth.drift));
   check_baseline(r.model, truth);
@@ -213,7 +178,7 @@ TEST_CASE("dynamic effects: stops and forcing together, with spurious library te
 
 TEST_CASE("dynamic effects: given params are held fixed; unsupported and bad requests fail clearly",
           "[identify][dynamic]") {
-  Model truth = potential("bistable");
+  Model truth = hidden_effect_potential("bistable");
   Effect e;
   e.id = EffectId::HarmonicForcing;
   e.params = {{"amplitude", 0.1}, {"omega", 1.3}, {"phase", 0.4}};
@@ -248,12 +213,12 @@ TEST_CASE("calibration study: electromechanical coupling over seeds (env NREC, N
   const int nseeds = std::getenv("NSEEDS") ? std::atoi(std::getenv("NSEEDS")) : 6;
   for (int seed = 1; seed <= nseeds; ++seed) {
     std::string pot = "bistable";
-    Model truth = pot == "paper" ? paper_truth() : potential(pot);
+    Model truth = pot == "paper" ? paper_truth() : hidden_effect_potential(pot);
     Effect e;
     e.id = EffectId::ElectromechanicalCoupling;
     e.params = {{"lambda", std::getenv("LAM") ? std::atof(std::getenv("LAM")) : 1.0}, {"coupling", std::getenv("CPL") ? std::atof(std::getenv("CPL")) : 0.4}};
     truth.effects = {e};
-    const Dataset d = simulate_hidden(truth, 6000 + seed, nrec, 40000);
+    const Dataset d = simulate_hidden(truth, 6000 + seed, nrec, 40000, std::getenv("NOBURN") ? 0.0 : 20.0);
     identify::Options io;
     io.drift_library = {Term::parse("x"), Term::parse("x^3"), Term::parse("y")};
     if (pot == "paper") io.drift_library = paper_drift_library(9, 1);
@@ -271,7 +236,7 @@ TEST_CASE("calibration study: electromechanical coupling over seeds (env NREC, N
 }
 
 TEST_CASE("calibration study: impact stops on the monostable potential over 8 seeds", "[.calibration]") {
-  Model truth = potential("monostable");
+  Model truth = hidden_effect_potential("monostable");
   Effect e;
   e.id = EffectId::ImpactStop;
   e.params = {{"k_stop", 48.0}, {"gap", 0.554}, {"gap_neg", 0.586}};
@@ -291,7 +256,7 @@ TEST_CASE("calibration study: impact stops on the monostable potential over 8 se
 }
 
 TEST_CASE("calibration study: harmonic forcing on the bistable potential over 8 seeds", "[.calibration]") {
-  Model truth = potential("bistable");
+  Model truth = hidden_effect_potential("bistable");
   Effect e;
   e.id = EffectId::HarmonicForcing;
   e.params = {{"amplitude", 0.08}, {"omega", 1.2}, {"phase", 0.7}};

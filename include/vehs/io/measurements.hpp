@@ -60,6 +60,10 @@ Dataset read_measurements(const std::string& path, const ReadOptions& options = 
 /// Reads several files into one dataset (records keep their source).
 Dataset read_measurements(const std::vector<std::string>& paths, const ReadOptions& options = {});
 
+/// Subtracts each record's mean from x and u (the DC offsets of real sensors; config key
+/// `detrend: "mean"`).
+void subtract_record_means(Dataset& data);
+
 /// Columns for writing; u and y may be empty.
 struct WriteColumns {
   bool with_y = true;
