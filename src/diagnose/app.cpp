@@ -67,8 +67,9 @@ const ConfigSchema& app_schema() {
            "With fewer records than this, every record is cut into time blocks treated as independent units.", "32"},
           {"holdout", "number", "Fraction at the end of every record held out to score the suspects.", "0.3"},
           {"suspects", "bool | object",
-           "Rank missing effects: true/false, or {\"z_threshold\": 3, \"min_blocks\": 20, \"effects\": [names]} "
-           "(significance of the held-out gain, held-out blocks for its standard error, effects to try).",
+           "Rank missing effects: true/false, or {\"z_threshold\": 3, \"min_blocks\": 20, \"effects\": [names], "
+           "\"confirm\": true} (significance of the held-out gain, held-out blocks for its standard error, effects "
+           "to try, confirm colored_noise against deterministic slow forces by refits).",
            "true"},
           {"suspect_samples", "number",
            "The suspects use whole records, in order, up to this many samples (their refits are the slowest "
@@ -129,8 +130,9 @@ Options options_from_config(const Config& c) {
     if (v.is_boolean()) {
       o.suspects.enabled = v.get<bool>();
     } else if (v.is_object()) {
-      const Config s = c.object("suspects", {"z_threshold", "min_blocks", "effects", "enabled"});
+      const Config s = c.object("suspects", {"z_threshold", "min_blocks", "effects", "enabled", "confirm"});
       o.suspects.enabled = s.boolean_or("enabled", true);
+      o.suspects.confirm = s.boolean_or("confirm", true);
       o.suspects.z_threshold = s.positive_or("z_threshold", 3.0);
       o.suspects.min_blocks = static_cast<int>(s.integer_at_least("min_blocks", 2, 20));
       if (s.has("effects"))

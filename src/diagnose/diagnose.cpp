@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <exception>
 #include <functional>
 #include <memory>
@@ -209,12 +210,8 @@ Pilot sampling_pilot(const Model& model, const Dataset& data) {
 /// The sampling diagnosis for a model WITH dynamic effects, from the model's own one-step
 /// residuals. identify's pilot fits only the model's terms, so the forces of stops, forcing or a
 /// hidden state stay in its residuals and their memory reads as sensor noise. Here the residuals
-/// e = â − b2 (ULI kinematics at stride 1, b2 including the explicit forces) are used, and the
-/// slowly varying part that hidden states leave is removed by differencing the autocorrelations:
-/// for a continuous-time process sampled without noise ρ₁ = 1/4, ρ₂ = ρ₃ = 0; white sensor noise
-/// of share η adds −(2/3)η to ρ₁ and η/6 to ρ₂ but nothing at lag 3; a smooth hidden force adds
-/// about the same to every small lag. So η = 6(ρ₂ − ρ₃) and the continuous-time test uses ρ₁ − ρ₃,
-/// with identify's decision rule.
+/// e = â − b2 (ULI kinematics at stride 1, b2 including the explicit forces) are used, with
+/// identify's sampling_rule (lag 3 as the reference for what a slowly varying force leaves).
 Pilot model_sampling_pilot(const Model& model, const Dataset& data) {
   Pilot p;
   Lens L;
@@ -243,18 +240,83 @@ Pilot model_sampling_pilot(const Model& model, const Dataset& data) {
     p.error = "no usable rows for the sampling diagnosis";
     return p;
   }
-  const double rho1 = (c[1] - c[3]) / c[0], rho2 = (c[2] - c[3]) / c[0];
-  const double eta = std::clamp(6.0 * rho2, 0.0, 1.0);
-  const bool continuous = rho1 + (2.0 / 3.0) * eta > (1.0 - eta) / 8.0;
-  p.ok = true;
-  p.verdict = eta > 0.05 ? "noisy" : continuous ? "continuous-time" : "scheme-consistent";
-  p.estimator = eta > 0.05 ? "noisy" : continuous ? "uli" : "forward";
-  p.stride = 1;
   double rows = 0.0;
   for (const auto& r : data.records) rows += static_cast<double>(L.rows(std::min(r.size, cap)));
+  const identify::SamplingRule rule = identify::sampling_rule(c[1] / c[0], c[2] / c[0], c[3] / c[0], rows);
+  p.ok = true;
+  p.verdict = rule.verdict;
+  p.estimator = rule.noisy ? "noisy" : rule.continuous ? "uli" : "forward";
+  p.stride = 1;
   const double h = L.h();
-  p.sensor_noise_sd = eta > 0.05 ? std::sqrt(eta * (c[0] / rows) * h * h * h * h / 6.0) : 0.0;
+  p.sensor_noise_sd = rule.noisy ? std::sqrt(rule.noise_share * (c[0] / rows) * h * h * h * h / 6.0) : 0.0;
   return p;
+}
+
+/// The confirmation of close contenders (see suspects.hpp): colored_noise against the
+/// deterministic dynamic forces, by refits and their diagnoses.
+void confirm_contenders(const Model& model, const Dataset& data, const Lens& lens, const Options& opt,
+                        SuspectReport& rep) {
+  auto& ranked = rep.ranked;
+  auto is_force = [](const std::string& e) {
+    return e == "impact_stop" || e == "harmonic_forcing" || e == "electromechanical_coupling";
+  };
+  if (ranked.empty() || !ranked[0].held_out_significant) return;
+  if (!(ranked[0].effect == "colored_noise" || is_force(ranked[0].effect))) return;
+  // paired z of the leader's gain over suspect i's, block by block
+  auto paired_z = [&](std::size_t i) {
+    const auto& a = ranked[0].block_gain;
+    const auto& b = ranked[i].block_gain;
+    if (i == 0) return 0.0;
+    if (a.size() != b.size() || a.size() < 2) return std::numeric_limits<double>::infinity();
+    double m = 0.0, ss = 0.0;
+    for (std::size_t k = 0; k < a.size(); ++k) m += a[k] - b[k];
+    m /= static_cast<double>(a.size());
+    for (std::size_t k = 0; k < a.size(); ++k) ss += (a[k] - b[k] - m) * (a[k] - b[k] - m);
+    const double se = std::sqrt(ss / static_cast<double>(a.size() - 1) / static_cast<double>(a.size()));
+    return se > 0.0 ? m / se : std::numeric_limits<double>::infinity();
+  };
+  std::vector<std::size_t> order;  // forces by evidence, colored_noise last
+  long colored = -1;
+  for (std::size_t i = 0; i < ranked.size(); ++i)
+    if (std::isfinite(ranked[i].evidence) && ranked[i].evidence > 0.0 && paired_z(i) < 2.0) {
+      if (ranked[i].effect == "colored_noise") colored = static_cast<long>(i);
+      else if (is_force(ranked[i].effect)) order.push_back(i);
+    }
+  if (colored < 0 || order.empty()) return;
+  order.push_back(static_cast<std::size_t>(colored));
+  Options sub = opt;
+  sub.suspects.enabled = false;
+  sub.progress = false;
+  std::string tried;
+  for (const std::size_t i : order) {
+    Suspect& sp = ranked[i];
+    identify::Options io = refit_options(model, lens);
+    Effect e;
+    e.id = enum_from_string(kEffectNames, sp.effect, "suspect");
+    io.effects.push_back(e);
+    try {
+      const Result r = diagnose(identify::identify(data, io).model, data, sub);
+      sp.refit_verdict = r.verdict;
+      sp.refit_score = r.score;
+    } catch (const std::exception& ex) {
+      sp.refit_verdict = std::string("refit failed: ") + ex.what();
+    }
+    tried += (tried.empty() ? "" : ", ") + sp.effect + " " +
+             (std::isfinite(sp.refit_score) ? sp.refit_verdict + " (score " + fmt(sp.refit_score) + ")" : sp.refit_verdict);
+    if (sp.refit_verdict == "adequate") {
+      if (i != 0) {
+        Suspect moved = sp;
+        ranked.erase(ranked.begin() + static_cast<long>(i));
+        ranked.insert(ranked.begin(), std::move(moved));
+      }
+      break;
+    }
+  }
+  rep.note += (rep.note.empty() ? "" : " ") +
+              std::string("colored_noise and a deterministic dynamic force explain the held-out rows about equally well; "
+                          "refits with them "
+                          "(forces first, colored_noise last; the first adequate one is ranked first): ") +
+              tried + ".";
 }
 
 }  // namespace
@@ -1121,10 +1183,12 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
 
 
   // ---- suspects
+  Dataset sub;  // the suspects' data when limited by suspect_samples
+  bool limited = false;
   if (opt.suspects.enabled) {
     if (opt.suspect_samples > 0.0 && static_cast<double>(data.total_samples()) > opt.suspect_samples) {
       // whole records, in order, up to suspect_samples samples (at least min_blocks records)
-      Dataset sub;
+      limited = true;
       for (const auto& r : data.records) {
         if (static_cast<double>(sub.x.size() + r.size) > opt.suspect_samples &&
             sub.records.size() >= static_cast<std::size_t>(opt.suspects.min_blocks))
@@ -1190,6 +1254,10 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
     }
   res.verdict = bad ? "inadequate" : "adequate";
   if (available == 0) res.warnings.push_back("no test could be computed: the verdict rests on nothing");
+  if (bad && opt.suspects.enabled && opt.suspects.confirm) {
+    confirm_contenders(model, limited ? sub : data, lens, opt, res.suspects);
+    lap(res, "suspects_confirmation");
+  }
   // a suspect is only claimed when the model is found inadequate
   for (auto& sp : res.suspects.ranked) sp.significant = sp.held_out_significant && bad;
   res.timings["total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();

@@ -30,6 +30,7 @@ nlohmann::ordered_json Result::to_json() const {
     e["scale"] = s.scale;
     e["params_stderr"] = s.params_stderr;
     e["terms"] = s.terms;
+    if (!s.refit_verdict.empty()) e["refit"] = {{"verdict", s.refit_verdict}, {"score", num(s.refit_score)}};
     sus.push_back(e);
   }
   j["suspects"] = sus;

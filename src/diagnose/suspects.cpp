@@ -78,6 +78,27 @@ struct BlockSums {
 
 }  // namespace
 
+identify::Options refit_options(const Model& model, const Lens& lens) {
+  identify::Options io;
+  io.drift_library = terms_of(model.drift);
+  io.diffusion_library = terms_of(model.diffusion);
+  io.sparsity = identify::Sparsity::None;
+  for (const auto& e : model.effects) {
+    Effect refit;  // the model's dynamic effects are refitted (all params free)
+    refit.id = e.id;
+    io.effects.push_back(refit);
+  }
+  io.folds = 1;  // no cross-validation: the support is fixed
+  io.progress = false;
+  if (lens.kinematics == Kinematics::Forward) {
+    io.estimator = identify::Estimator::Forward;
+  } else {
+    io.estimator = lens.sensor_noise_sd > 0.0 ? identify::Estimator::Noisy : identify::Estimator::Uli;
+    io.stride = lens.stride;
+  }
+  return io;
+}
+
 SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens& lens,
                             const SuspectOptions& options, bool progress) {
   SuspectReport rep;
@@ -117,23 +138,7 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
 
   // ---- fits on the training part
   const Dataset train = training_part(data, options.holdout);
-  identify::Options io;
-  io.drift_library = terms_of(model.drift);
-  io.diffusion_library = terms_of(model.diffusion);
-  io.sparsity = identify::Sparsity::None;
-  for (const auto& e : model.effects) {
-    Effect refit;  // the model's dynamic effects are refitted (all params free)
-    refit.id = e.id;
-    io.effects.push_back(refit);
-  }
-  io.folds = 1;  // no cross-validation: the support is fixed
-  io.progress = false;
-  if (lens.kinematics == Kinematics::Forward) {
-    io.estimator = identify::Estimator::Forward;
-  } else {
-    io.estimator = lens.sensor_noise_sd > 0.0 ? identify::Estimator::Noisy : identify::Estimator::Uli;
-    io.stride = lens.stride;
-  }
+  const identify::Options io = refit_options(model, lens);
   std::vector<Fitted> fits;
   Progress prog("suspects", static_cast<long long>(candidates.size()) + 2, progress);
   double sensor_sd = lens.sensor_noise_sd;
@@ -344,6 +349,7 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
         sp.params_stderr = ep[0]["stderr"];
       }
     }
+    sp.block_gain = gain;
     sp.add = {{"effects", nlohmann::ordered_json::array({{{"name", f.name}}})}};
     sp.terms = f.added;
     rep.ranked.push_back(std::move(sp));

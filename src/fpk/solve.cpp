@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <sstream>
 
 #include <Eigen/IterativeLinearSolvers>
@@ -39,6 +40,16 @@ std::string SolveOptions::invalid_reason() const {
 }
 
 // ---- UMFPACK wrapper ------------------------------------------------------------------------
+// UMFPACK's dense kernels call the system BLAS, and Debian's fast one (libopenblas0-serial,
+// which scripts/install-deps.sh installs) is built without locking: two threads inside it at
+// once share its buffers and get silently perturbed results (measured: a parallel sweep gave
+// different E[Y²] on every run, up to 1e-7 relative, where one thread is bitwise
+// reproducible). So every UMFPACK call holds this lock; a parallel sweep still overlaps the
+// assembly and post-processing of its points.
+static std::mutex& blas_mutex() {
+  static std::mutex m;
+  return m;
+}
 
 struct DirectSolverCache::Impl {
   void* symbolic = nullptr;
@@ -80,6 +91,7 @@ struct DirectSolverCache::Impl {
     release();
     n = static_cast<int>(A.rows());
     nnz = static_cast<std::size_t>(A.nonZeros());
+    std::lock_guard<std::mutex> lock(blas_mutex());
     const int status = umfpack_di_symbolic(n, n, A.outerIndexPtr(), A.innerIndexPtr(), A.valuePtr(),
                                            &symbolic, control, info);
     if (status != UMFPACK_OK) {
@@ -92,6 +104,7 @@ struct DirectSolverCache::Impl {
   void factorize(const SparseMatrix& A) {
     if (!matches(A)) analyze(A);
     release_numeric();
+    std::lock_guard<std::mutex> lock(blas_mutex());
     const int status = umfpack_di_numeric(A.outerIndexPtr(), A.innerIndexPtr(), A.valuePtr(),
                                           symbolic, &numeric, control, info);
     if (status == UMFPACK_WARNING_singular_matrix)
@@ -102,6 +115,7 @@ struct DirectSolverCache::Impl {
                   (status == UMFPACK_ERROR_out_of_memory ? ": out of memory" : ""));
   }
   void solve(const SparseMatrix& A, const double* b, double* x) {
+    std::lock_guard<std::mutex> lock(blas_mutex());
     const int status = umfpack_di_solve(UMFPACK_A, A.outerIndexPtr(), A.innerIndexPtr(),
                                         A.valuePtr(), x, b, numeric, control, info);
     if (status != UMFPACK_OK && status != UMFPACK_WARNING_singular_matrix)

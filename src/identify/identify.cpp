@@ -856,8 +856,8 @@ struct Pilot {
   int k = 1;
   bool central = true;
   Target target = Target::Uli;
-  double V = 0, rho_1 = 0, rho_k = 0, rho_2k = 0, C2k = 0;
-  double noise_share = 0;
+  double V = 0, rho_1 = 0, rho_k = 0, rho_2k = 0, rho_3k = 0, C2k = 0, C3k = 0;
+  double noise_share = 0, rows = 0;
   double v_sd = 0;
   VectorXd q;          // diffusion coefficients (full ψ library, OLS)
   VectorXd c;          // Itô-corrected full-library drift (after finish_pilot)
@@ -897,7 +897,7 @@ Pilot run_pilot(const Dataset& d, const Dictionary& phi, const Dictionary& psi, 
   const SupportFit full = fit_support(drift_quadratic(p.drift, phi, DriftCorrection{}), all);
   p.ds.target = target;
   p.ds.dm = drift_model(phi, all, expand(full, phi.size()));
-  p.ds.lags = {1, kin.k, 2 * kin.k};
+  p.ds.lags = {1, kin.k, 2 * kin.k, 3 * kin.k};
   const auto dd = diffusion_pass(cx, p.ds, p.spans, 1, nullptr);
   const ResidualMoments& mo = dd[0].mom;
   p.V = mo.r2 / mo.n;
@@ -905,7 +905,10 @@ Pilot run_pilot(const Dataset& d, const Dictionary& phi, const Dictionary& psi, 
   p.rho_k = mo.autocorrelation(1);
   p.C2k = mo.autocovariance(2);
   p.rho_2k = mo.autocorrelation(2);
-  p.noise_share = std::clamp(6.0 * p.rho_2k, 0.0, 1.0);
+  p.C3k = mo.autocovariance(3);
+  p.rho_3k = mo.autocorrelation(3);
+  p.rows = mo.n;
+  p.noise_share = sampling_rule(p.rho_k, p.rho_2k, p.rho_3k, p.rows).noise_share;
   p.q = expand(fit_support(dd[0].quadratic(), all_indices(psi.size())), psi.size());
   p.mean_z = dd[0].n > 0 ? dd[0].zsum / dd[0].n : 0.0;
   return p;
@@ -936,6 +939,17 @@ void finish_pilot(Pilot& p, const Dataset& d, const Dictionary& phi, const Dicti
 }
 
 }  // namespace
+
+SamplingRule sampling_rule(double rho_k, double rho_2k, double rho_3k, double rows) {
+  SamplingRule r;
+  r.noise_share = std::clamp(6.0 * (rho_2k - rho_3k), 0.0, 1.0);
+  const double se = 6.0 * std::sqrt(2.0 / std::max(rows, 1.0));
+  r.noisy = r.noise_share > std::max(0.05, 3.0 * se);
+  const double eta = r.noisy ? r.noise_share : 0.0;
+  r.continuous = (rho_k - rho_3k) + (2.0 / 3.0) * eta > (1.0 - eta) / 8.0;
+  r.verdict = r.noisy ? "noisy" : r.continuous ? "continuous-time" : "scheme-consistent";
+  return r;
+}
 
 std::string Options::invalid_reason() const {
   if (drift_library.empty() && effects.empty()) return "the drift library is empty";
@@ -1059,15 +1073,16 @@ Result identify_terms(const Dataset& data, const Options& options) {
   Estimator est = options.estimator;
   std::string reason = "requested";
   {
-    const double eta = diag.noise_share;
-    const bool continuous = diag.rho_k + (2.0 / 3.0) * eta > (1.0 - eta) / 8.0;
-    res.sampling.verdict = eta > 0.05 ? "noisy" : continuous ? "continuous-time" : "scheme-consistent";
+    const SamplingRule rule = sampling_rule(diag.rho_k, diag.rho_2k, diag.rho_3k, diag.rows);
+    const double eta = rule.noise_share;
+    const bool continuous = rule.continuous;
+    res.sampling.verdict = rule.verdict;
     if (est == Estimator::Auto) {
-      if (eta > 0.05) {
+      if (rule.noisy) {
         est = Estimator::Noisy;
         reason = "white sensor noise makes up " + fmt(100 * eta) +
                  " % of the variance of the ULI acceleration (lag-2k autocorrelation " +
-                 fmt(diag.rho_2k) + " > 0)";
+                 fmt(diag.rho_2k) + " above lag-3k " + fmt(diag.rho_3k) + ")";
       } else if (continuous) {
         est = Estimator::Uli;
         reason = "ULI residuals have lag-1 autocorrelation " + fmt(diag.rho_k) +
@@ -1085,10 +1100,10 @@ Result identify_terms(const Dataset& data, const Options& options) {
   // ---- the stride of the noisy estimator: noise share of â's variance ≈ noise_share_target
   Pilot pilot = diag;
   if (est == Estimator::Noisy && options.stride == 0) {
-    // noise share η_k = 6 ρ_2k falls with the stride as 1/(1 + α h³) (process part ∝ 1/h,
+    // noise share η_k = 6 (ρ_2k − ρ_3k) falls with the stride as 1/(1 + α h³) (process part ∝ 1/h,
     // noise part ∝ 1/h⁴): double k until η_k < goal, then solve for the stride with η = goal
     const double goal = options.noise_share_target;
-    auto share = [](const Pilot& pl) { return std::clamp(6.0 * pl.rho_2k, 1e-6, 1.0 - 1e-6); };
+    auto share = [](const Pilot& pl) { return std::clamp(pl.noise_share, 1e-6, 1.0 - 1e-6); };
     int guard = 0;
     while (share(pilot) >= goal && !too_short(2 * pilot.k) && guard++ < 20)
       pilot = run_pilot(data, phi, psi, Kinematics(true, 2 * pilot.k, dt), Target::Noisy,
@@ -1115,6 +1130,7 @@ Result identify_terms(const Dataset& data, const Options& options) {
   res.sampling.stride = diag.k;
   res.sampling.rho_k = diag.rho_k;
   res.sampling.rho_2k = diag.rho_2k;
+  res.sampling.rho_3k = diag.rho_3k;
   res.sampling.noise_share = diag.noise_share;
 
   const bool weighted = est != Estimator::Paper;
@@ -1149,7 +1165,7 @@ Result identify_terms(const Dataset& data, const Options& options) {
     corr.var_v_noise = s2 / (2.0 * h * h);
     corr.ax_cov = 2.0 * s2 / (h * h);
   };
-  if (est == Estimator::Noisy) set_noise(pilot.C2k);
+  if (est == Estimator::Noisy) set_noise(pilot.C2k - pilot.C3k);
   auto drift_folds = [&](const DriftCorrection& c) {
     std::vector<QuadraticStats> v;
     for (const auto& s : dstats) v.push_back(drift_quadratic(s, phi, c));
@@ -1177,6 +1193,7 @@ Result identify_terms(const Dataset& data, const Options& options) {
   ds.lags = {1, 2, 3};
   if (k > 3) ds.lags.push_back(k);
   ds.lags.push_back(2 * k);
+  ds.lags.push_back(3 * k);  // the sensor-noise covariance is C(2k) − C(3k) (see sampling_rule)
   ds.scores = true;
   ds.ito = central;
   ds.noise = est == Estimator::Noisy;
@@ -1195,7 +1212,7 @@ Result identify_terms(const Dataset& data, const Options& options) {
   ResidualMoments rtotal = qstats[0].mom;
   for (int f = 1; f < F; ++f) rtotal.add(qstats[static_cast<std::size_t>(f)].mom);
   if (est == Estimator::Noisy) {
-    set_noise(rtotal.autocovariance(ds.lags.size() - 1));
+    set_noise(rtotal.autocovariance(ds.lags.size() - 2) - rtotal.autocovariance(ds.lags.size() - 1));
     res.sampling.sensor_noise_sd = std::sqrt(s2);
   }
   std::vector<QuadraticStats> qfolds;
@@ -1294,13 +1311,15 @@ Result identify_terms(const Dataset& data, const Options& options) {
   samp["rho_lag1"] = diag.rho_1;
   samp["rho_lag_k"] = diag.rho_k;
   samp["rho_lag_2k"] = diag.rho_2k;
+  samp["rho_lag_3k"] = diag.rho_3k;
   samp["noise_share"] = diag.noise_share;
   samp["verdict"] = res.sampling.verdict;
   if (est == Estimator::Noisy) samp["sensor_noise_sd"] = std::sqrt(s2);
   samp["explanation"] =
       "lag autocorrelations of ULI residuals on a pilot subsample: about 0 at lag k for data from "
       "an explicit scheme at the recorded step, +1/4 for a sensor sampling a continuous process; "
-      "white sensor noise pushes lag k toward -2/3 and lag 2k toward +1/6 (noise share = 6 rho_2k)";
+      "white sensor noise pushes lag k toward -2/3 and lag 2k toward +1/6 but leaves lag 3k at 0, "
+      "while a smooth unmodelled force raises lags k, 2k and 3k alike (noise share = 6 (rho_2k - rho_3k))";
   x["sampling"] = samp;
   nlohmann::ordered_json resid;
   resid["rows"] = rtotal.n;

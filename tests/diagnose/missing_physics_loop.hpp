@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <random>
@@ -41,14 +42,21 @@ inline std::string describe(const Result& r) {
          (c.name == "residual_lines" ? " (" + c.test.method + ")" : "");
   s += " | suspects:";
   for (const auto& sp : r.suspects.ranked)
-    s += " " + sp.effect + " " + std::to_string(sp.evidence) + " (z " + std::to_string(sp.z) + ")";
+    s += " " + sp.effect + " " + std::to_string(sp.evidence) + " (z " + std::to_string(sp.z) + ", " +
+         sp.params.dump() + ")";
+  for (const auto& [e, why] : r.suspects.untested) s += " | untested " + e + ": " + why;
+  if (!r.suspects.note.empty()) s += " | note: " + r.suspects.note;
+  s += " | seconds:";
+  s += r.timings.dump();
   return s;
 }
 
-inline DataSpec continuous_spec(std::uint64_t seed) {
+/// 64 records of `samples` samples at Δt = 0.02 (a sensor sampling a continuous process: 10
+/// Itô–Taylor substeps per sample); VEHS_MP_RECORDS / VEHS_MP_SAMPLES override (exploration).
+inline DataSpec continuous_spec(std::uint64_t seed, std::size_t samples = 6000) {
   DataSpec s;
   s.records = std::getenv("VEHS_MP_RECORDS") ? std::atoi(std::getenv("VEHS_MP_RECORDS")) : 64;
-  s.samples = std::getenv("VEHS_MP_SAMPLES") ? std::strtoull(std::getenv("VEHS_MP_SAMPLES"), nullptr, 10) : 6000;
+  s.samples = std::getenv("VEHS_MP_SAMPLES") ? std::strtoull(std::getenv("VEHS_MP_SAMPLES"), nullptr, 10) : samples;
   s.dt = 0.02;
   s.substeps = 10;
   s.scheme = vehs::sim::Scheme::Taylor15;
@@ -79,7 +87,7 @@ struct Hidden {
 };
 
 /// The loop for one hidden effect (parameters the truth sets to zero are checked for 3 SE only).
-inline void run_loop(const Hidden& h, std::uint64_t seed) {
+inline void run_loop(const Hidden& h, std::uint64_t seed, std::size_t samples = 6000, int records = 64) {
   vehs::Model truth = h.base;
   if (!vehs::effect_spec(h.effect.id).term_like) truth.effects.push_back(h.effect);
   {
@@ -89,7 +97,9 @@ inline void run_loop(const Hidden& h, std::uint64_t seed) {
     vehs::canonicalize(truth.drift, "truth drift");
     vehs::canonicalize(truth.diffusion, "truth diffusion");
   }
-  const auto d = simulate(truth, continuous_spec(seed));
+  DataSpec spec = continuous_spec(seed, samples);
+  if (!std::getenv("VEHS_MP_RECORDS")) spec.records = records;
+  const auto d = simulate(truth, spec);
   const vehs::Model baseline = fit(d, kBaselineDrift, kBaselineDiffusion);
   INFO("hidden " << vehs::effect_to_json(h.effect).dump() << " seed " << seed);
   INFO("baseline model " << vehs::model_to_json(baseline).dump());
@@ -131,6 +141,7 @@ inline void run_loop(const Hidden& h, std::uint64_t seed) {
   INFO("refit: " << describe(r1));
   CHECK(r1.verdict == "adequate");
   CHECK(r1.score <= 0.5 * r0.score);
+  if (std::getenv("VEHS_MP_VERBOSE")) std::printf("baseline: %s\nrefit: %s\n", describe(r0).c_str(), describe(r1).c_str());
   for (const auto& sp : r1.suspects.ranked) CHECK(sp.effect != h.effect.name());
 }
 

@@ -129,10 +129,28 @@ struct SamplingDiagnosis {
   int stride = 1;          ///< stride at which the figures below were measured
   double rho_k = 0.0;      ///< lag-k autocorrelation of pilot ULI residuals
   double rho_2k = 0.0;     ///< lag-2k autocorrelation
-  double noise_share = 0.0;  ///< η = 6 ρ_2k, clamped to [0, 1]
+  double rho_3k = 0.0;     ///< lag-3k autocorrelation
+  double noise_share = 0.0;  ///< η = 6 (ρ_2k − ρ_3k), clamped to [0, 1]
   double sensor_noise_sd = 0.0;  ///< s estimated when noise is present (0 otherwise)
   std::string verdict;     ///< "scheme-consistent", "continuous-time", "noisy"
 };
+
+/// The sampling rule shared by identify's pilot and diagnose, from the autocorrelations of ULI
+/// drift residuals at stride k over `rows` rows. For a clean continuous-time process the ULI
+/// noise is correlated over lags < 2k only (ρ_k ≈ 1/4, ρ_2k = ρ_3k = 0); an explicit scheme at
+/// the recorded step gives ρ_k ≈ 0; white sensor noise of share η adds −(2/3)η at lag k and η/6
+/// at lag 2k but nothing at lag 3k; a smooth force the residuals still carry (an OU excitation,
+/// a hidden state, a forcing line) adds about the same to lags k, 2k and 3k. So
+///   η = 6 (ρ_2k − ρ_3k), clamped to [0, 1];   continuous: (ρ_k − ρ_3k) + (2/3)η > (1 − η)/8;
+/// and the data are "noisy" when η > 5 % and η exceeds 3 of its standard errors (≈ 6√2/√rows:
+/// short data do not invent sensor noise). Without the lag-3k reference an OU excitation with
+/// τ = 10h read as 40 % sensor noise.
+struct SamplingRule {
+  double noise_share = 0.0;
+  bool noisy = false, continuous = false;
+  std::string verdict;  ///< "noisy", "continuous-time" or "scheme-consistent"
+};
+SamplingRule sampling_rule(double rho_k, double rho_2k, double rho_3k, double rows);
 
 struct Result {
   Model model;                 ///< coefficients, stderr and the extras below in model.extra
