@@ -257,30 +257,31 @@ Pilot model_sampling_pilot(const Model& model, const Dataset& data) {
 void confirm_contenders(const Model& model, const Dataset& data, const Lens& lens, const Options& opt,
                         SuspectReport& rep) {
   auto& ranked = rep.ranked;
-  auto is_force = [](const std::string& e) {
-    return e == "impact_stop" || e == "harmonic_forcing" || e == "electromechanical_coupling";
+  auto method = [](const std::string& effect) {
+    return suspect_method(enum_from_string(kEffectNames, effect, "suspect"));
   };
-  if (ranked.empty() || !ranked[0].held_out_significant) return;
-  if (!(ranked[0].effect == "colored_noise" || is_force(ranked[0].effect))) return;
-  // paired z of the leader's gain over suspect i's, block by block
+  auto contender = [&](const std::string& effect) {
+    const SuspectMethod m = method(effect);
+    return m == SuspectMethod::DynamicForce || m == SuspectMethod::ColoredExcitation;
+  };
+  if (ranked.empty() || !ranked[0].held_out_significant || !contender(ranked[0].effect)) return;
+  // paired z of the leader's gain over suspect i's, block by block (infinite: not comparable)
   auto paired_z = [&](std::size_t i) {
     const auto& a = ranked[0].block_gain;
     const auto& b = ranked[i].block_gain;
     if (i == 0) return 0.0;
     if (a.size() != b.size() || a.size() < 2) return std::numeric_limits<double>::infinity();
-    double m = 0.0, ss = 0.0;
-    for (std::size_t k = 0; k < a.size(); ++k) m += a[k] - b[k];
-    m /= static_cast<double>(a.size());
-    for (std::size_t k = 0; k < a.size(); ++k) ss += (a[k] - b[k] - m) * (a[k] - b[k] - m);
-    const double se = std::sqrt(ss / static_cast<double>(a.size() - 1) / static_cast<double>(a.size()));
-    return se > 0.0 ? m / se : std::numeric_limits<double>::infinity();
+    std::vector<double> diff(a.size());
+    for (std::size_t k = 0; k < a.size(); ++k) diff[k] = a[k] - b[k];
+    return block_z(diff);
   };
   std::vector<std::size_t> order;  // forces by evidence, colored_noise last
   long colored = -1;
   for (std::size_t i = 0; i < ranked.size(); ++i)
-    if (std::isfinite(ranked[i].evidence) && ranked[i].evidence > 0.0 && paired_z(i) < 2.0) {
-      if (ranked[i].effect == "colored_noise") colored = static_cast<long>(i);
-      else if (is_force(ranked[i].effect)) order.push_back(i);
+    if (std::isfinite(ranked[i].evidence) && ranked[i].evidence > 0.0 && contender(ranked[i].effect) &&
+        paired_z(i) < 2.0) {
+      if (method(ranked[i].effect) == SuspectMethod::ColoredExcitation) colored = static_cast<long>(i);
+      else order.push_back(i);
     }
   if (colored < 0 || order.empty()) return;
   order.push_back(static_cast<std::size_t>(colored));

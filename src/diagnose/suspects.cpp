@@ -78,6 +78,23 @@ struct BlockSums {
 
 }  // namespace
 
+double block_z(const std::vector<double>& gain) {
+  const double B = static_cast<double>(gain.size());
+  if (B < 2) return 0.0;
+  double mean = 0.0, ss = 0.0;
+  for (double g : gain) mean += g;
+  mean /= B;
+  for (double g : gain) ss += (g - mean) * (g - mean);
+  const double se = std::sqrt(ss / (B - 1) / B);
+  return se > 0 ? mean / se : 0.0;
+}
+
+SuspectMethod suspect_method(EffectId id) {
+  for (const auto& e : suspect_table())
+    if (e.id == id) return e.method;
+  return SuspectMethod::NotYet;
+}
+
 identify::Options refit_options(const Model& model, const Lens& lens) {
   identify::Options io;
   io.drift_library = terms_of(model.drift);
@@ -326,11 +343,7 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
                  : f.method == SuspectMethod::ColoredExcitation ? "drift contrast (predicted OU excitation)"
                                                                  : "drift contrast";
     sp.evidence = total;
-    const double B = static_cast<double>(gain.size());
-    double mean = total / B, ss = 0.0;
-    for (double g : gain) ss += (g - mean) * (g - mean);
-    const double se = B > 1 ? std::sqrt(ss / (B - 1) / B) : 0.0;
-    sp.z = se > 0 ? mean / se : 0.0;
+    sp.z = block_z(gain);
     if (invalid) {
       sp.evidence = -std::numeric_limits<double>::infinity();
       sp.z = 0.0;

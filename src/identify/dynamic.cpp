@@ -372,18 +372,8 @@ struct BlockEval {
   /// the noise of â (see electro_noise_cov). Nothing for forward kinematics.
   void add_ito(const Problem& P, const Problem::Rows& rw, VectorXd& b) {
     if (!P.central) return;
-    const int m = rw.m;
-    const auto& vt = P.phi.velocity_terms();
-    psiv.resize(kBlockRows, P.psi.size());
-    P.psi.values(rw.b, psiv.data(), kBlockRows, scratch.data());
-    const VectorXd a22 = psiv.topRows(m) * P.q;
-    if (!vt.empty()) {
-      dv.resize(kBlockRows, static_cast<Index>(vt.size()));
-      P.phi.d_dv(rw.b, dv.data(), kBlockRows, scratch.data());
-      for (std::size_t j = 0; j < vt.size(); ++j)
-        b[vt[j]] -= 0.5 * a22.dot(dv.col(static_cast<Index>(j)).head(m));
-    }
-    for (const auto& [col, J] : P.noise_cov_cols) b[P.K() + col] += J * a22.sum();
+    const double a22_sum = ito_terms(P, rw, b);
+    for (const auto& [col, J] : P.noise_cov_cols) b[P.K() + col] += J * a22_sum;
   }
 };
 

@@ -22,13 +22,7 @@ using namespace vehs_test;
 namespace {
 
 /// The baseline the user would have: the potential's terms, fitted by identify.
-Model baseline_fit(const Dataset& d) {
-  identify::Options o;
-  o.drift_library = {Term::parse("x"), Term::parse("x^3"), Term::parse("y")};
-  o.diffusion_library = paper_diffusion_library(2);
-  o.sparsity = identify::Sparsity::None;
-  return identify::identify(d, o).model;
-}
+Model baseline_fit(const Dataset& d) { return identify::identify(d, baseline_options()).model; }
 
 diagnose::SuspectReport suspects_of(const Model& base, const Dataset& d) {
   diagnose::Lens lens;

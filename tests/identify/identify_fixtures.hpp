@@ -106,6 +106,21 @@ inline vehs::Dataset simulate_hidden(const vehs::Model& m, std::uint64_t seed, i
   return vehs::sim::simulate(m, o);
 }
 
+/// identify on the hidden-effect potentials' own terms (x, x³, y; 1, x²), sparsity off, with
+/// `effects` requested (their params fitted).
+inline vehs::identify::Options baseline_options(std::vector<vehs::EffectId> effects = {}) {
+  vehs::identify::Options o;
+  o.drift_library = {vehs::Term::parse("x"), vehs::Term::parse("x^3"), vehs::Term::parse("y")};
+  o.diffusion_library = vehs::paper_diffusion_library(2);
+  o.sparsity = vehs::identify::Sparsity::None;
+  for (const auto id : effects) {
+    vehs::Effect e;
+    e.id = id;
+    o.effects.push_back(e);
+  }
+  return o;
+}
+
 inline double uniform(std::mt19937_64& g, double a, double b) {
   return std::uniform_real_distribution<double>(a, b)(g);
 }

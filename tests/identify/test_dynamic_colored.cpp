@@ -51,11 +51,7 @@ TEST_CASE("an OU excitation is not mistaken for sensor noise: identify on its da
   e.params = {{"tau", 0.2}, {"intensity", 0.024}};
   truth.effects = {e};
   const Dataset d = simulate_hidden(truth, 5100, 8, 40000);
-  identify::Options o;
-  o.drift_library = {Term::parse("x"), Term::parse("x^3"), Term::parse("y")};
-  o.diffusion_library = paper_diffusion_library(2);
-  o.sparsity = identify::Sparsity::None;
-  const identify::Result r = identify::identify(d, o);
+  const identify::Result r = identify::identify(d, baseline_options());
   INFO("rho_k " << r.sampling.rho_k << " rho_2k " << r.sampling.rho_2k << " rho_3k " << r.sampling.rho_3k);
   CHECK(6.0 * r.sampling.rho_2k > 0.1);  // the OU's memory: lag 2k alone would read > 10 % noise ...
   CHECK(r.sampling.noise_share < 0.05);  // ... and is not read as sensor noise
@@ -72,14 +68,7 @@ TEST_CASE("dynamic effects: colored_noise (OU time constant and intensity) on tw
   e.params = {{"tau", uniform(g, 0.2, 1.0)}, {"intensity", uniform(g, 0.02, 0.06)}};
   truth.effects = {e};
   const Dataset d = simulate_hidden(truth, 5000 + g() % 1000, 8, 40000);
-  identify::Options o;
-  o.drift_library = {Term::parse("x"), Term::parse("x^3"), Term::parse("y")};
-  o.diffusion_library = paper_diffusion_library(2);
-  o.sparsity = identify::Sparsity::None;
-  Effect req;
-  req.id = EffectId::ColoredNoise;
-  o.effects = {req};
-  const identify::Result r = identify::identify(d, o);
+  const identify::Result r = identify::identify(d, baseline_options({EffectId::ColoredNoise}));
   INFO(pot << ": " << model_to_json(r.model).dump());
   REQUIRE(r.model.effects.size() == 1);
   check_effect_param(r.model.effects[0], "tau", e.param("tau"));
@@ -104,14 +93,7 @@ TEST_CASE("calibration study: colored_noise over 10 seeds and both potentials (z
       if (std::getenv("CN_INT")) e.params["intensity"] = std::atof(std::getenv("CN_INT"));
       truth.effects = {e};
       const Dataset d = simulate_hidden(truth, 7000 + static_cast<std::uint64_t>(s), 8, 40000);
-      identify::Options o;
-      o.drift_library = {Term::parse("x"), Term::parse("x^3"), Term::parse("y")};
-      o.diffusion_library = paper_diffusion_library(2);
-      o.sparsity = identify::Sparsity::None;
-      Effect req;
-      req.id = EffectId::ColoredNoise;
-      o.effects = {req};
-      const identify::Result r = identify::identify(d, o);
+      const identify::Result r = identify::identify(d, baseline_options({EffectId::ColoredNoise}));
       const Effect& f = r.model.effects.at(0);
       auto z = [&](const char* k) { return (f.param(k) - e.param(k)) / f.stderr_.at(k); };
       auto rel = [&](const char* k) { return f.param(k) / e.param(k) - 1.0; };
