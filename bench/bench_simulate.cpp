@@ -76,6 +76,11 @@ void BM_PaperSimulate(benchmark::State& state) {
 // polynomial's coefficients as compile-time constants: the fastest version we could write (an
 // `#pragma omp simd` loop over lane arrays ran at about half this speed).
 constexpr int kL = 8;
+// (portable builds: GCC notes that 32-byte vectors cross ABI boundaries differently without AVX;
+// these helpers are inline and file-local)
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
 typedef double v4d __attribute__((vector_size(32)));
 
 inline v4d vsqrt(v4d a) {

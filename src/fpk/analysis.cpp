@@ -41,14 +41,19 @@ std::vector<Well> find_wells(const FpkModel& model, double lo, double hi) {
     }
     return 0.5 * (a + b);
   };
+  // Sign changes between consecutive grid points where the force is non-zero: a grid point that
+  // lands exactly on a root (x = 0 of an odd force, depending on how lo + k·h rounds) is
+  // bracketed by its non-zero neighbours and counted once.
   std::vector<double> minima, maxima;
-  double prev = f(lo);
+  double prev_x = lo, prev = f(lo);
   for (int k = 1; k <= n; ++k) {
     const double x = lo + k * h;
     const double cur = f(x);
-    if (prev < 0.0 && cur >= 0.0 && !(cur == 0.0 && k == n)) minima.push_back(refine(x - h, x));
-    if (prev > 0.0 && cur <= 0.0 && !(cur == 0.0 && k == n)) maxima.push_back(refine(x - h, x));
-    if (cur != 0.0) prev = cur;
+    if (cur == 0.0) continue;
+    if (prev < 0.0 && cur > 0.0) minima.push_back(refine(prev_x, x));
+    if (prev > 0.0 && cur < 0.0) maxima.push_back(refine(prev_x, x));
+    prev = cur;
+    prev_x = x;
   }
   std::vector<Well> wells;
   if (minima.empty()) {

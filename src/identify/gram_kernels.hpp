@@ -7,6 +7,13 @@
 #include <cstddef>
 #include <cstring>
 
+// Without AVX (the portable build) GCC notes that 32-byte vectors would be passed differently
+// across an ABI boundary; these helpers are inline and private, so no such boundary exists.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
 namespace vehs::identify::kernels {
 
 typedef double v4d __attribute__((vector_size(32)));
@@ -62,3 +69,7 @@ inline void add_AtB(const double* A, std::ptrdiff_t lda, const double* B, std::p
 }
 
 }  // namespace vehs::identify::kernels
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif

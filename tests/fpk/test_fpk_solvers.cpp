@@ -107,6 +107,20 @@ TEST_CASE("wells of the penta-stable potential: five, symmetric, masses sum to o
   for (const auto& w : r.wells) CHECK(std::abs(m.restoring_force(w.x_min)) < 1e-9);
 }
 
+TEST_CASE("wells: a grid point exactly on a root is counted once", "[fpk][wells]") {
+  // U' = x − 4x³ + 3x⁵ (tristable: minima at 0 and ±1). On [−2, 2] with 4000 steps the scan
+  // lands exactly on x = 0 (−2 + 2000·0.001 rounds to 0); the root was counted twice on
+  // machines where it did (6 wells for the penta-stable model in a portable build).
+  const FpkModel m(fpk_fixtures::model(
+      R"({"drift": {"x": -1, "x^3": 4, "x^5": -3, "y": -0.1}, "diffusion": {"1": 0.02}})"));
+  REQUIRE(m.restoring_force(-2.0 + 2000 * ((2.0 - -2.0) / 4000)) == 0.0);
+  const auto wells = find_wells(m, -2.0, 2.0);
+  REQUIRE(wells.size() == 3);
+  CHECK(wells[1].x_min == Approx(0.0).margin(1e-12));
+  CHECK(wells[0].x_min == Approx(-1.0).epsilon(1e-9));
+  CHECK(wells[2].x_min == Approx(1.0).epsilon(1e-9));
+}
+
 TEST_CASE("impact_stop is supported: identities converge with the stop force", "[fpk][effects]") {
   // negative stiffness between soft stops: a double well whose potential has a kink at |x| = 1
   const FpkModel m(fpk_fixtures::model(R"({"drift": {"x": 0.5, "y": -0.3}, "diffusion": {"1": 0.1},
