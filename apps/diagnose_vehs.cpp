@@ -1,5 +1,5 @@
-// diagnose-vehs: how well does a model reproduce measured displacement records, and where does
-// it fail? See include/vehs/diagnose/diagnose.hpp and `diagnose-vehs --help`.
-#include "vehs/diagnose/app.hpp"
+// diagnose-vehs: how well does a model reproduce measured displacement records, and where does it fail?
+// All keys: --help (the key table of src/tools/diagnose_tool.cpp).
+#include "tools/tools.hpp"
 
-int main(int argc, char** argv) { return vehs::diagnose::main(argc, argv); }
+int main(int argc, char** argv) { return vehs::tools::diagnose_main(argc, argv); }

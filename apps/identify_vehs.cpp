@@ -1,5 +1,5 @@
 // identify-vehs: learns drift and diffusion (with standard errors) from displacement records.
-// All logic lives in the library (vehs/identify/app.hpp) so that tests can run it in-process.
-#include "vehs/identify/app.hpp"
+// All keys: --help (the key table of src/tools/identify_tool.cpp).
+#include "tools/tools.hpp"
 
-int main(int argc, char** argv) { return vehs::identify::main(argc, argv); }
+int main(int argc, char** argv) { return vehs::tools::identify_main(argc, argv); }

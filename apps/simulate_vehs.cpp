@@ -1,10 +1,5 @@
-// simulate-vehs: ensembles of records of a vehs model, sampled like a sensor, with optional
-// Monte Carlo statistics. All keys: simulate-vehs --help (table in src/sim/config.cpp).
-#include "vehs/sim/config.hpp"
+// simulate-vehs: ensembles of records of a vehs model, sampled like a sensor, with optional Monte Carlo statistics.
+// All keys: --help (the key table of src/tools/simulate_tool.cpp).
+#include "tools/tools.hpp"
 
-int main(int argc, char** argv) {
-  return vehs::run_app(argc, argv, vehs::sim::simulate_schema(),
-                       [](vehs::Config& config, const vehs::AppOptions& app) {
-                         return vehs::sim::run_simulate_job(vehs::sim::simulate_job_from_config(config), app);
-                       });
-}
+int main(int argc, char** argv) { return vehs::tools::simulate_main(argc, argv); }

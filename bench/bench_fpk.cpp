@@ -11,7 +11,7 @@
 #include <cstring>
 #include <string>
 
-#include "vehs/core/app.hpp"
+#include "vehs/core/parallel.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/fpk/stationary.hpp"
 

@@ -18,7 +18,7 @@
 #include <filesystem>
 #include <string>
 
-#include "vehs/core/app.hpp"
+#include "vehs/core/parallel.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/identify/identify.hpp"
 #include "vehs/io/measurements.hpp"

@@ -22,6 +22,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "tools/terminal_progress.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/identify/study.hpp"
 
@@ -55,7 +56,7 @@ int main(int argc, char** argv) {
       o.records = records;
       o.substeps = c.substeps;
       o.seed = 1000 + static_cast<std::uint64_t>(c.id) + 100000 * seed;
-      o.progress = true;
+      o.progress = vehs::tools::terminal_progress();
       const auto r = vehs::identify::run_study(o);
       const auto& p = r.points.front();
       std::printf("\n%c. %s: %d datasets of %d x %zu samples (simulate %.0f s, identify %.1f s in total)\n",

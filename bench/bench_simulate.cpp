@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "vehs/core/app.hpp"
+#include "vehs/core/parallel.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/sim/random.hpp"
 #include "vehs/sim/simulate.hpp"

@@ -16,7 +16,7 @@
 #include "vehs/diagnose/distributions.hpp"
 #include "vehs/conventions.hpp"
 #include "vehs/core/error.hpp"
-#include "vehs/core/progress.hpp"
+#include "vehs/core/detail/progress_counter.hpp"
 #include "vehs/core/statistics.hpp"
 #include "vehs/fpk/stationary.hpp"
 #include "vehs/identify/identify.hpp"
@@ -193,7 +193,6 @@ Pilot sampling_pilot(const Model& model, const Dataset& data) {
   o.sparsity = identify::Sparsity::None;
   o.folds = 1;
   o.estimator = identify::Estimator::Auto;
-  o.progress = false;
   try {
     const identify::Result r = identify::identify(sub, o);
     p.ok = true;
@@ -287,7 +286,7 @@ void confirm_contenders(const Model& model, const Dataset& data, const Lens& len
   order.push_back(static_cast<std::size_t>(colored));
   Options sub = opt;
   sub.suspects.enabled = false;
-  sub.progress = false;
+  sub.progress = nullptr;
   std::string tried;
   for (const std::size_t i : order) {
     Suspect& sp = ranked[i];
@@ -542,7 +541,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
   lap(res, "setup");
 
   // ---- statistics of the data and of the twins, per unit
-  auto run_units = [&](const Dataset& d, std::vector<UnitStats>& out, bool add, Progress& prog) {
+  auto run_units = [&](const Dataset& d, std::vector<UnitStats>& out, bool add, vehs::detail::ProgressCounter& prog) {
     std::vector<UnitStats> one(units.size());
     std::exception_ptr failure;
     std::mutex mtx;
@@ -571,7 +570,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
                     ? opt.replicates
                     : std::clamp(static_cast<int>(std::ceil(2e6 / static_cast<double>(std::max<std::size_t>(res.samples, 1)))), 1, 8);
   si.replicates = R;
-  Progress prog("diagnose", static_cast<long long>(units.size()) * (R + 1), opt.progress);
+  vehs::detail::ProgressCounter prog(opt.progress, "diagnose", static_cast<long long>(units.size()) * (R + 1));
   std::vector<UnitStats> dstats, tstats, rep0;
   run_units(data, dstats, false, prog);
   lap(res, "data_statistics");
@@ -886,7 +885,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
       }
       Dataset pseudo, star_twin;
       std::vector<UnitStats> star(units.size());
-      Progress pprog("parameter draws", opt.parameter_draws, opt.progress);
+      vehs::detail::ProgressCounter pprog(opt.progress, "parameter draws", opt.parameter_draws);
       try {
         for (int b = 0; b < opt.parameter_draws; ++b) {
           pseudo_sim.simulate(b, pseudo);
@@ -1157,7 +1156,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
       req.grid.x.n = opt.fpk_cells;
       req.grid.y.n = opt.fpk_cells;
       const fpk::StationaryResult st =
-          fpk::solve_with_domain(*fm_ptr, req, fpk::SolveOptions{}, conventions::fpk_boundary_mass_tolerance);
+          fpk::solve_with_domain(*fm_ptr, req, fpk::SolveOptions{});
       const auto& g = st.grid;
       for (double xq : res.px.at) {
         const double fi = (xq - g.x.min) / g.x.h() - 0.5;
@@ -1186,6 +1185,8 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
   // ---- suspects
   Dataset sub;  // the suspects' data when limited by suspect_samples
   bool limited = false;
+  SuspectOptions suspect_options = opt.suspects;
+  suspect_options.progress = opt.progress;
   if (opt.suspects.enabled) {
     if (opt.suspect_samples > 0.0 && static_cast<double>(data.total_samples()) > opt.suspect_samples) {
       // whole records, in order, up to suspect_samples samples (at least min_blocks records)
@@ -1200,12 +1201,12 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
         if (data.has_u()) sub.u.insert(sub.u.end(), data.u_of(r), data.u_of(r) + r.size);
         sub.records.push_back(nr);
       }
-      res.suspects = rank_suspects(model, sub, lens, opt.suspects, opt.progress);
+      res.suspects = rank_suspects(model, sub, lens, suspect_options);
       res.suspects.note += (res.suspects.note.empty() ? "" : " ") + std::string("suspects fitted on the first ") +
                            std::to_string(sub.records.size()) + " of " + std::to_string(data.records.size()) +
                            " records (" + std::to_string(sub.x.size()) + " samples; suspect_samples)";
     } else {
-      res.suspects = rank_suspects(model, data, lens, opt.suspects, opt.progress);
+      res.suspects = rank_suspects(model, data, lens, suspect_options);
     }
     lap(res, "suspects");
   }

@@ -6,7 +6,7 @@
 #include <mutex>
 
 #include "vehs/core/error.hpp"
-#include "vehs/core/progress.hpp"
+#include "vehs/core/detail/progress_counter.hpp"
 #include "vehs/identify/dynamic.hpp"
 #include "vehs/identify/identify.hpp"
 
@@ -106,7 +106,6 @@ identify::Options refit_options(const Model& model, const Lens& lens) {
     io.effects.push_back(refit);
   }
   io.folds = 1;  // no cross-validation: the support is fixed
-  io.progress = false;
   if (lens.kinematics == Kinematics::Forward) {
     io.estimator = identify::Estimator::Forward;
   } else {
@@ -117,7 +116,7 @@ identify::Options refit_options(const Model& model, const Lens& lens) {
 }
 
 SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens& lens,
-                            const SuspectOptions& options, bool progress) {
+                            const SuspectOptions& options) {
   SuspectReport rep;
   if (auto why = options.invalid_reason(); !why.empty()) throw Error(why);
   if (auto why = lens.invalid_reason(); !why.empty()) throw Error("lens: " + why);
@@ -157,7 +156,7 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
   const Dataset train = training_part(data, options.holdout);
   const identify::Options io = refit_options(model, lens);
   std::vector<Fitted> fits;
-  Progress prog("suspects", static_cast<long long>(candidates.size()) + 2, progress);
+  vehs::detail::ProgressCounter prog(options.progress, "suspects", static_cast<long long>(candidates.size()) + 2);
   double sensor_sd = lens.sensor_noise_sd;
   try {
     const identify::Result base = identify::identify(train, io);

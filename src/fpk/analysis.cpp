@@ -242,8 +242,17 @@ Grid automatic_domain(const FpkModel& model, int nx, int ny, const DomainOptions
   return g;
 }
 
+std::string DomainOptions::invalid_reason() const {
+  if (!(log_density_drop > 0.0) || !std::isfinite(log_density_drop)) return "log_density_drop must be > 0";
+  if (!(boundary_mass_tolerance > 0.0) || !std::isfinite(boundary_mass_tolerance))
+    return "boundary_mass_tolerance must be > 0";
+  return "";
+}
+
 StationaryResult solve_with_domain(const FpkModel& model, const GridRequest& request,
-                                   const SolveOptions& options, double tol, const DomainOptions& domain) {
+                                   const SolveOptions& options, const DomainOptions& domain) {
+  if (auto why = domain.invalid_reason(); !why.empty()) throw Error(why);
+  const double tol = domain.boundary_mass_tolerance;
   Grid grid = request.grid;
   if (request.auto_x || request.auto_y) {
     const Grid a = automatic_domain(model, grid.x.n, grid.y.n, domain);

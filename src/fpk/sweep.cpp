@@ -5,7 +5,7 @@
 #include <optional>
 
 #include "vehs/core/error.hpp"
-#include "vehs/core/progress.hpp"
+#include "vehs/core/detail/progress_counter.hpp"
 #include "vehs/fpk/stationary.hpp"
 
 #ifdef _OPENMP
@@ -14,9 +14,18 @@
 
 namespace vehs::fpk {
 
+std::string SweepOptions::invalid_reason() const {
+  if (auto why = solve.invalid_reason(); !why.empty()) return why;
+  return domain.invalid_reason();
+}
+
 SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const GridRequest& request,
-                  const SolveOptions& options, double tol, bool progress, const DomainOptions& domain) {
+                  const SweepOptions& sweep_options) {
   const auto t0 = std::chrono::steady_clock::now();
+  if (auto why = sweep_options.invalid_reason(); !why.empty()) throw Error("sweep: " + why);
+  const SolveOptions& options = sweep_options.solve;
+  const DomainOptions& domain = sweep_options.domain;
+  const double tol = domain.boundary_mass_tolerance;
   require(!axes.empty() && axes.size() <= 2, "sweep: give one or two parameters");
   std::size_t count = 1;
   for (const auto& a : axes) {
@@ -82,7 +91,7 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
         cache_error = e.what();
       }
     }
-  Progress prog("fpk sweep", static_cast<long long>(count), progress);
+  vehs::detail::ProgressCounter prog(sweep_options.progress, "fpk sweep", static_cast<long long>(count));
   int threads_used = 1;
 #pragma omp parallel
   {

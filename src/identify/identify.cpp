@@ -13,7 +13,7 @@
 
 #include "vehs/conventions.hpp"
 #include "vehs/core/error.hpp"
-#include "vehs/core/progress.hpp"
+#include "vehs/core/detail/progress_counter.hpp"
 #include "vehs/identify/dictionary.hpp"
 #include "vehs/identify/dynamic.hpp"
 #include "gram_kernels.hpp"
@@ -192,7 +192,7 @@ std::vector<Span> make_spans(const Dataset& d, const Kinematics& kin, int folds,
 /// result with `reduce(span, acc)` in span order, so results do not depend on the thread count.
 template <class Acc, class Make, class Work, class Reduce>
 void run_spans(const std::vector<Span>& spans, Make make, Work work, Reduce reduce,
-               Progress* progress) {
+               vehs::detail::ProgressCounter* progress) {
   for (std::size_t b0 = 0; b0 < spans.size(); b0 += kBatchSpans) {
     const std::size_t nb = std::min(kBatchSpans, spans.size() - b0);
     std::vector<Acc> acc;
@@ -318,7 +318,7 @@ void drift_pass_span(const Context& cx, bool ito, bool noise, const Span& sp, Dr
 }
 
 std::vector<DriftStats> drift_pass(const Context& cx, bool ito, bool noise,
-                                   const std::vector<Span>& spans, int folds, Progress* progress) {
+                                   const std::vector<Span>& spans, int folds, vehs::detail::ProgressCounter* progress) {
   const int K = cx.phi.size(), P = cx.psi.size();
   const int Kv = static_cast<int>(cx.phi.velocity_terms().size());
   std::vector<DriftStats> out(static_cast<std::size_t>(folds), DriftStats(K, P, Kv));
@@ -645,7 +645,7 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
 
 std::vector<DiffusionStats> diffusion_pass(const Context& cx, const DiffusionSetup& ds,
                                            const std::vector<Span>& spans, int folds,
-                                           Progress* progress) {
+                                           vehs::detail::ProgressCounter* progress) {
   const int P = cx.psi.size();
   const int kd = ds.scores ? score_rows(ds, P) * score_cols(P) : 0;
   std::vector<DiffusionStats> out(static_cast<std::size_t>(folds), DiffusionStats(P, ds.lags.size(), kd));
@@ -1144,7 +1144,7 @@ Result identify_terms(const Dataset& data, const Options& options) {
   if (h2_correction) cx.jerk = &jerk;
   const int F = options.folds;
   const auto spans = make_spans(data, kin, F, 0);
-  Progress progress("identify", 3 * static_cast<long long>(spans.size()), options.progress);
+  vehs::detail::ProgressCounter progress(options.progress, "identify", 3 * static_cast<long long>(spans.size()));
 
   // ---- pass 1: drift statistics per fold
   const auto dstats = drift_pass(cx, central, est == Estimator::Noisy, spans, F, &progress);

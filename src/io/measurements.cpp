@@ -12,7 +12,7 @@
 #include <fast_float/fast_float.h>
 
 #include "vehs/conventions.hpp"
-#include "vehs/core/config.hpp"
+#include "vehs/io/atomic_file.hpp"
 #include "vehs/core/error.hpp"
 
 namespace vehs {

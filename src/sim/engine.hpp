@@ -25,7 +25,7 @@
 #include <omp.h>
 #endif
 
-#include "vehs/core/progress.hpp"
+#include "vehs/core/detail/progress_counter.hpp"
 #include "vehs/core/statistics.hpp"
 #include "vehs/io/measurements.hpp"
 #include "vehs/sim/random.hpp"
@@ -70,7 +70,7 @@ struct RunContext {
   bool histograms = false;
   std::vector<Histogram1D> hx, hy;    ///< per thread
   std::vector<Histogram2D> hxy;       ///< per thread
-  Progress* progress = nullptr;
+  vehs::detail::ProgressCounter* progress = nullptr;
   // failure
   std::atomic<bool> cancel{false};
   std::mutex failure_mutex;

@@ -9,10 +9,8 @@
 #include <sstream>
 
 #include "engine.hpp"
-#include "vehs/core/app.hpp"
-#include "vehs/core/config.hpp"
+#include "vehs/core/parallel.hpp"
 #include "vehs/core/error.hpp"
-#include "vehs/core/table.hpp"
 
 namespace vehs::sim {
 
@@ -356,8 +354,8 @@ void simulate(const Model& model, const SimulationOptions& o, Dataset& d, Simula
   detail::RunContext ctx;
   prepare(ctx, cm, o);
   ctx.data = &d;
-  Progress progress("simulate", static_cast<long long>(o.records) * static_cast<long long>(o.samples),
-                    o.progress);
+  vehs::detail::ProgressCounter progress(o.progress, "simulate",
+                                        static_cast<long long>(o.records) * static_cast<long long>(o.samples));
   ctx.progress = &progress;
   run(ctx, o.scheme);
   progress.finish();
@@ -377,8 +375,8 @@ MonteCarloStatistics simulate_statistics(const Model& model, const SimulationOpt
     allocate(*keep, o);
     ctx.data = keep;
   }
-  Progress progress("simulate", static_cast<long long>(o.records) * static_cast<long long>(o.samples),
-                    o.progress);
+  vehs::detail::ProgressCounter progress(o.progress, "simulate",
+                                        static_cast<long long>(o.records) * static_cast<long long>(o.samples));
   ctx.progress = &progress;
   run(ctx, o.scheme);
   progress.finish();
@@ -428,70 +426,6 @@ const Estimate& MonteCarloStatistics::moment(const std::string& name) const {
   for (const auto& [k, e] : moments)
     if (k == name) return e;
   throw Error("statistics: no moment '" + name + "'");
-}
-
-nlohmann::ordered_json MonteCarloStatistics::to_json() const {
-  nlohmann::ordered_json j;
-  for (const auto& [k, e] : moments) j[k] = e.value;
-  j["stderr"] = nlohmann::ordered_json::object();
-  for (const auto& [k, e] : moments) j["stderr"][k] = e.stderr_;
-  j["records"] = records;
-  j["samples_per_record"] = samples_per_record;
-  j["discard"] = discard;
-  j["error_method"] = error_method;
-  if (has_histograms) {
-    nlohmann::ordered_json hj;
-    hj["x"] = {px.lo, px.hi, px.counts.size()};
-    hj["y"] = {py.lo, py.hi, py.counts.size()};
-    hj["grid"] = "cell-centred: n cells over [min, max], centre of cell i at min + (i + 1/2)(max - min)/n";
-    hj["outside_fraction_x"] = px.total > 0 ? px.outside / px.total : 0.0;
-    hj["outside_fraction_y"] = py.total > 0 ? py.outside / py.total : 0.0;
-    hj["outside_fraction_xy"] = pxy.total > 0 ? pxy.outside / pxy.total : 0.0;
-    j["histograms"] = hj;
-  }
-  return j;
-}
-
-void MonteCarloStatistics::write(const std::string& json_path, const std::string& px_csv,
-                                 const std::string& py_csv, const std::string& pxy_csv,
-                                 const nlohmann::ordered_json& extra) const {
-  nlohmann::ordered_json j = to_json();
-  for (auto it = extra.begin(); it != extra.end(); ++it) j[it.key()] = it.value();
-  auto relative = [&](const std::string& p) {
-    // name the CSV relative to the JSON's folder when they share it
-    const auto slash = json_path.find_last_of('/');
-    const std::string dir = slash == std::string::npos ? "" : json_path.substr(0, slash + 1);
-    return !dir.empty() && p.compare(0, dir.size(), dir) == 0 ? p.substr(dir.size()) : p;
-  };
-  if (has_histograms) {
-    if (!px_csv.empty()) {
-      Table t({"x", "p"});
-      const auto d = px.density();
-      for (std::size_t i = 0; i < d.size(); ++i) t.add_row({px.center(i), d[i]});
-      t.write_csv(px_csv);
-      j["histograms"]["p(x)"] = relative(px_csv);
-    }
-    if (!py_csv.empty()) {
-      Table t({"y", "p"});
-      const auto d = py.density();
-      for (std::size_t i = 0; i < d.size(); ++i) t.add_row({py.center(i), d[i]});
-      t.write_csv(py_csv);
-      j["histograms"]["p(y)"] = relative(py_csv);
-    }
-    if (!pxy_csv.empty()) {
-      Table t({"x", "y", "p"});
-      const auto d = pxy.density();
-      const double hx = (pxy.xhi - pxy.xlo) / static_cast<double>(pxy.nx);
-      const double hy = (pxy.yhi - pxy.ylo) / static_cast<double>(pxy.ny);
-      for (std::size_t i = 0; i < pxy.nx; ++i)
-        for (std::size_t k = 0; k < pxy.ny; ++k)
-          t.add_row({pxy.xlo + (static_cast<double>(i) + 0.5) * hx,
-                     pxy.ylo + (static_cast<double>(k) + 0.5) * hy, d[i * pxy.ny + k]});
-      t.write_csv(pxy_csv);
-      j["histograms"]["p(x,y)"] = relative(pxy_csv);
-    }
-  }
-  if (!json_path.empty()) write_json_atomically(json_path, j);
 }
 
 }  // namespace vehs::sim

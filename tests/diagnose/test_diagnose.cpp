@@ -8,7 +8,7 @@
 #include <string>
 
 #include "diagnose_fixtures.hpp"
-#include "vehs/core/app.hpp"
+#include "vehs/core/parallel.hpp"
 #include "vehs/core/error.hpp"
 
 using namespace diag_test;

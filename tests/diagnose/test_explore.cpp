@@ -109,12 +109,15 @@ TEST_CASE("explore: paper-sized data", "[bench][explore_paper]") {
   const char* mp = std::getenv("VEHS_EXPLORE_MODEL");
   const auto m = vehs::load_model_file(mp ? mp : "/tmp/dw/learned.json");
   vehs::diagnose::Options o;
-  o.progress = true;
+  o.progress = [](const vehs::ProgressEvent& e) {
+    std::fprintf(stderr, "\r[%s] %lld/%lld", std::string(e.task).c_str(), e.done, e.total);
+  };
   if (std::getenv("VEHS_EXPLORE_NOSUS")) o.suspects.enabled = false;
   const auto r = vehs::diagnose::diagnose(m, d, o);
   summary(r);
-  std::printf("%s\n", r.to_json()["timings"].dump().c_str());
-  std::printf("%s\n", r.to_json()["quantities"].dump().c_str());
+  std::printf("%s\n", r.timings.dump().c_str());
+  for (const auto& q : r.quantities)
+    std::printf("%s data %.6g twin %.6g z %.3g\n", q.name.c_str(), q.data, q.twin, q.z);
 }
 
 TEST_CASE("explore: identify cost", "[bench][explore_id]") {

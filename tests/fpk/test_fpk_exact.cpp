@@ -100,7 +100,7 @@ TEST_CASE("linear oscillator with multiplicative noise: E[X^2] = E[Y^2]/k1 = D/(
   double err_prev = 0.0;
   for (int n : {100, 200, 400}) {
     req.grid.x.n = req.grid.y.n = n;
-    const auto r = solve_with_domain(m, req, SolveOptions{}, 1e-6);
+    const auto r = solve_with_domain(m, req, SolveOptions{});
     const double err = std::max(std::abs(r.moments.exx / exx - 1), std::abs(r.moments.eyy / eyy - 1));
     std::printf("linear n=%d: E[X^2] %.6f (exact %.6f), E[Y^2] %.6f (exact %.6f), domain x +-%.2f y +-%.2f\n",
                 n, r.moments.exx, exx, r.moments.eyy, eyy, r.grid.x.max, r.grid.y.max);

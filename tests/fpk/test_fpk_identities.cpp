@@ -53,7 +53,7 @@ TEST_CASE("fpk of a model file in identify-vehs format agrees with Monte Carlo w
   const FpkModel fm(model, path);
   GridRequest req;
   req.grid.x.n = req.grid.y.n = 300;
-  const auto r = solve_with_domain(fm, req, SolveOptions{}, 1e-6);
+  const auto r = solve_with_domain(fm, req, SolveOptions{});
 
   vehs::sim::SimulationOptions o;
   o.scheme = vehs::sim::Scheme::Rk4Euler;

@@ -6,7 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include "identify_fixtures.hpp"
-#include "vehs/core/app.hpp"
+#include "vehs/core/parallel.hpp"
 #include "vehs/core/error.hpp"
 
 using namespace vehs;

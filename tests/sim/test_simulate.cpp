@@ -7,7 +7,7 @@
 #include <functional>
 #include <string>
 
-#include "vehs/core/app.hpp"
+#include "vehs/core/parallel.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/sim/simulate.hpp"
 
@@ -164,11 +164,7 @@ TEST_CASE("streamed statistics equal the statistics of the stored records", "[si
   CHECK(st.pxy.counts == sd.pxy.counts);
   CHECK(st.error_method == "independent records");
   CHECK(st.samples_per_record == 3000);
-  const auto j = st.to_json();
-  for (const char* k : {"E[X^2]", "E[Y^2]", "E[XY]"}) {
-    CHECK(j.contains(k));
-    CHECK(j["stderr"].contains(k));
-  }
+  for (const char* k : {"E[X^2]", "E[Y^2]", "E[XY]"}) CHECK(st.moment(k).stderr_ > 0.0);
   // fewer records: batch means
   auto o2 = small_options(Scheme::Rk4Euler, 2, 4000);
   CHECK(simulate_statistics(m, o2, so).error_method == "batch means");

@@ -50,6 +50,7 @@
 
 #include "vehs/core/enum_names.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/core/progress.hpp"
 #include "vehs/diagnose/hypothesis.hpp"
 #include "vehs/diagnose/lens.hpp"
 #include "vehs/diagnose/suspects.hpp"
@@ -103,7 +104,7 @@ struct Options {
   /// The suspects use whole records, in order, up to this many samples (their refits of dynamic
   /// effects are the slowest part of a run; 0: all data).
   double suspect_samples = 4e6;
-  bool progress = false;
+  ProgressCallback progress;           ///< tasks "diagnose", "parameter draws", "suspects"; empty: none
 
   std::string invalid_reason() const;
 };
@@ -194,9 +195,6 @@ struct Result {
   SuspectReport suspects;
   std::vector<std::string> warnings;
   nlohmann::ordered_json timings = nlohmann::ordered_json::object();
-
-  /// The contract JSON (contracts.md §4) with every detail.
-  nlohmann::ordered_json to_json() const;
 };
 
 /// Diagnoses `model` against `data`. Throws vehs::Error (one line) for invalid options, a model

@@ -59,6 +59,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vehs/core/model.hpp"
+#include "vehs/core/progress.hpp"
 #include "vehs/diagnose/lens.hpp"
 #include "vehs/identify/identify.hpp"
 #include "vehs/io/measurements.hpp"
@@ -89,6 +90,7 @@ struct SuspectOptions {
   int min_blocks = 20;       ///< held-out blocks for the standard error
   bool confirm = true;       ///< confirm colored_noise against deterministic slow forces by refits (diagnose)
   std::vector<EffectId> only;  ///< empty: every effect of the table
+  ProgressCallback progress;   ///< task "suspects"; empty: none
   std::string invalid_reason() const;
 };
 
@@ -134,6 +136,6 @@ identify::Options refit_options(const Model& model, const Lens& lens);
 /// Fits and scores the suspects (see the header comment). Errors of the fits (e.g. too short
 /// records) are returned in `note` rather than thrown.
 SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens& lens,
-                            const SuspectOptions& options, bool progress = false);
+                            const SuspectOptions& options);
 
 }  // namespace vehs::diagnose

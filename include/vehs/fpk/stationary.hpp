@@ -72,8 +72,10 @@
 
 #include <Eigen/SparseCore>
 
+#include "vehs/conventions.hpp"
 #include "vehs/core/enum_names.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/core/progress.hpp"
 
 namespace vehs::fpk {
 
@@ -242,13 +244,17 @@ struct StationaryResult {
 };
 
 /// Automatic domain from the potential and the noise: x spans where the local-equilibrium
-/// log-density Φ(x) = ∫ U'(s)/T(s) ds stays within `decades_e` (natural-log units) of its
-/// minimum (T = local temperature, FpkModel::temperature; exact for the damping
+/// log-density Φ(x) = ∫ U'(s)/T(s) ds stays within K = `log_density_drop` (natural-log units) of
+/// its minimum (T = local temperature, FpkModel::temperature; exact for the damping
 /// β(x) = β0(1 + Q x²/D), conservative for constant β where the true tails are lighter); y is
 /// symmetric with y_max = max(sqrt(2·K·T_max), sqrt(2·ΔU_max)) so it grows with x_max when
-/// a22 grows with x. Axis sizes come from `nx`, `ny`.
+/// a22 grows with x. Axis sizes come from `nx`, `ny`. `boundary_mass_tolerance` is the check of
+/// solve_with_domain and sweep.
 struct DomainOptions {
   double log_density_drop = 25.0;  ///< K: density ratio e^−K at the domain edge
+  /// Largest probability mass allowed in the outermost ring of cells (the contract's 1e-6).
+  double boundary_mass_tolerance = conventions::fpk_boundary_mass_tolerance;
+  std::string invalid_reason() const;
 };
 Grid automatic_domain(const FpkModel& model, int nx, int ny, const DomainOptions& options = {});
 
@@ -270,8 +276,7 @@ struct GridRequest {
 /// for undershoots (a negative total of more than 1e-3 means the grid does not resolve the
 /// density: an error; smaller undershoots are reported in SolveSummary::negative_mass).
 StationaryResult solve_with_domain(const FpkModel& model, const GridRequest& request,
-                                   const SolveOptions& options, double boundary_mass_tolerance,
-                                   const DomainOptions& domain = {});
+                                   const SolveOptions& options, const DomainOptions& domain = {});
 
 /// Moments, marginals, wells, boundary mass and identities of a density on a grid (used by
 /// the solvers; exposed for tests and for comparing densities).
@@ -339,8 +344,13 @@ struct SweepResult {
 /// analysed on the same matrix), so results do not depend on the thread count. A point that
 /// fails (non-confining potential, too much boundary mass) records its error and the sweep
 /// goes on.
+struct SweepOptions {
+  SolveOptions solve;
+  DomainOptions domain;
+  ProgressCallback progress;  ///< task "fpk sweep", one event per point; empty: none
+  std::string invalid_reason() const;
+};
 SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const GridRequest& request,
-                  const SolveOptions& options, double boundary_mass_tolerance, bool progress,
-                  const DomainOptions& domain = {});
+                  const SweepOptions& options = {});
 
 }  // namespace vehs::fpk

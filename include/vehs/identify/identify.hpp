@@ -73,6 +73,7 @@
 
 #include "vehs/core/enum_names.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/core/progress.hpp"
 #include "vehs/identify/regression.hpp"
 #include "vehs/io/measurements.hpp"
 
@@ -117,7 +118,7 @@ struct Options {
   std::size_t se_block = 0;        ///< batch length of the standard errors (0: automatic)
   std::size_t pilot_samples = 250000;  ///< rows of the pilot fits (sampling diagnosis, weights)
   double noise_share_target = 0.95;  ///< noisy: share of sensor noise in â's variance aimed at by the stride
-  bool progress = false;
+  ProgressCallback progress;  ///< task "identify": the streaming passes; empty: none
 
   /// Empty when valid, else a one-line reason.
   std::string invalid_reason() const;

@@ -8,10 +8,8 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "vehs/core/model.hpp"
-#include "vehs/core/table.hpp"
+#include "vehs/core/progress.hpp"
 #include "vehs/identify/identify.hpp"
 #include "vehs/sim/simulate.hpp"
 
@@ -34,7 +32,7 @@ struct StudyOptions {
   double sensor_noise = 0.0;
   double burn_in = 0.0;
   Options identify;          ///< estimator settings used for every dataset
-  bool progress = false;
+  ProgressCallback progress;  ///< one event per (point, repeat); empty: none
 
   std::string invalid_reason() const;
 };
@@ -59,11 +57,6 @@ struct StudyResult {
   std::vector<StudyPointResult> points;
   double coverage = 0.0;        ///< over all points, repeats and true parameters
   long long intervals = 0;      ///< number of (repeat, parameter) intervals behind `coverage`
-  nlohmann::ordered_json to_json() const;
-  /// One row per (point, parameter): dt, samples, truth, mean, sd, mean_stderr, coverage.
-  Table to_table() const;
-  /// The paper's Table 4 layout: parameters down, grid points across, "mean (sd)".
-  std::string to_text() const;
 };
 
 StudyResult run_study(const StudyOptions& options);

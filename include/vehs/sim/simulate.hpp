@@ -26,10 +26,9 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "vehs/core/enum_names.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/core/progress.hpp"
 #include "vehs/core/statistics.hpp"
 #include "vehs/io/measurements.hpp"
 
@@ -73,7 +72,7 @@ struct SimulationOptions {
   /// Recorded drive u for models with a `u` term: one value per recorded sample (held
   /// constant over the substeps of an interval), shared by all records.
   std::vector<double> drive;
-  bool progress = false;         ///< report progress on stderr
+  ProgressCallback progress;     ///< progress reports (task "simulate"); empty: none
 
   /// Alternative to `drive`: one drive series per record (same length rules).
   std::vector<std::vector<double>> drive_per_record;
@@ -153,13 +152,6 @@ struct MonteCarloStatistics {
   std::string error_method;            ///< "independent records" or "batch means"
 
   const Estimate& moment(const std::string& name) const;  ///< throws when absent
-  /// {"E[X^2]": …, …, "stderr": {…}, "records": …, "histograms": {…}} (contracts.md §5).
-  nlohmann::ordered_json to_json() const;
-  /// Writes the JSON (with the keys of `extra` appended) and, with histograms, p(x), p(y) as CSV (x,p) and p(x, y) as CSV (x,y,p)
-  /// on cell centres; empty paths are skipped. The JSON names the CSV files. Atomic writes.
-  void write(const std::string& json_path, const std::string& px_csv, const std::string& py_csv,
-             const std::string& pxy_csv,
-             const nlohmann::ordered_json& extra = nlohmann::ordered_json::object()) const;
 };
 
 /// Simulates and accumulates statistics while streaming (memory independent of the record

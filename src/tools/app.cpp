@@ -1,0 +1,53 @@
+#include "tools/app.hpp"
+
+#include <exception>
+#include <iostream>
+#include <new>
+
+#include <CLI/CLI.hpp>
+
+#include "tools/terminal_progress.hpp"
+#include "vehs/core/error.hpp"
+#include "vehs/core/parallel.hpp"
+
+namespace vehs::tools {
+
+int run_app(int argc, char** argv, const ConfigSchema& schema,
+            const std::function<int(Config&, const AppOptions&)>& body) {
+  CLI::App app{schema.summary, schema.tool};
+  std::string config_path;
+  std::vector<std::string> overrides;
+  AppOptions options;
+  app.add_option("config", config_path, "JSON config file (keys below)")->required();
+  app.add_option("--set", overrides, "override a config key: --set key=value (value is JSON)");
+  app.add_option("--threads", options.threads, "threads for parallel work (default: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--quiet,-q", options.quiet, "no progress reports on stderr");
+  app.footer(schema.help_text());
+  app.get_formatter()->column_width(28);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    std::cerr << schema.tool << ": " << e.what() << " (see --help)\n";
+    return 2;
+  }
+  if (!options.quiet) options.progress = terminal_progress();
+  try {
+    set_threads(options.threads);
+    Config config = Config::load(config_path, schema);
+    for (const auto& o : overrides) config.set_override(o, schema);
+    return body(config, options);
+  } catch (const Error& e) {
+    std::cerr << schema.tool << ": error: " << e.what() << "\n";
+  } catch (const nlohmann::json::exception& e) {
+    std::cerr << schema.tool << ": error: " << config_path << ": " << e.what() << "\n";
+  } catch (const std::bad_alloc&) {
+    std::cerr << schema.tool << ": error: out of memory\n";
+  } catch (const std::exception& e) {
+    std::cerr << schema.tool << ": internal error: " << e.what() << "\n";
+  }
+  return 1;
+}
+
+}  // namespace vehs::tools

@@ -1,0 +1,24 @@
+#pragma once
+// The common front end of the executables: `tool CONFIG.json [--set key=value]... [--threads N]
+// [--quiet]`, --help printing the key table, one-line errors with a non-zero exit, and progress
+// on the terminal.
+#include <functional>
+
+#include "tools/config.hpp"
+#include "vehs/core/progress.hpp"
+
+namespace vehs::tools {
+
+struct AppOptions {
+  int threads = 0;     ///< 0: all hardware threads
+  bool quiet = false;  ///< no progress on stderr
+  /// Progress display on stderr (empty when quiet): pass it to the library's options.
+  ProgressCallback progress;
+};
+
+/// Parses the command line, loads and checks the config, runs `body`. Returns the exit code:
+/// 0 success, 1 a vehs::Error (bad config, data or model; printed as one line), 2 usage.
+int run_app(int argc, char** argv, const ConfigSchema& schema,
+            const std::function<int(Config&, const AppOptions&)>& body);
+
+}  // namespace vehs::tools

@@ -1,0 +1,140 @@
+#include "tools/compare_tool.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "vehs/core/error.hpp"
+#include "vehs/core/parameters.hpp"
+#include "tools/table.hpp"
+
+namespace vehs::tools {
+
+namespace {
+
+ConfigSchema make_schema() {
+  return {"vehs-compare",
+          "Prints a table of true / reference / learned model parameters (beta, k_i, 2D, 2Q, ...) "
+          "with the learned model's standard errors, and the stationary response E[X^2], E[Y^2] "
+          "from fpk-stationary next to a Monte Carlo estimate.",
+          {{"learned", "path", "model file written by identify-vehs", ""},
+           {"truth", "path", "model file of the true parameters (deviation columns use it)", "", true},
+           {"reported", "path", "model file of the values a paper reports", "", true},
+           {"reported_label", "string", "column title for `reported`", "\"paper\""},
+           {"fpk", "path", "statistics JSON written by fpk-stationary", "", true},
+           {"monte_carlo", "path", "statistics JSON of simulate-vehs (with stderr)", "", true},
+           {"output", "path", "also write the parameter table as CSV here", "", true}},
+          "Example: vehs-compare data/paper/compare.json"};
+}
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw Error(path + ": not valid JSON");
+  }
+}
+
+double stat(const nlohmann::json& j, const std::string& key, const std::string& file) {
+  if (!j.contains(key) || !j[key].is_number()) throw Error(file + ": no number '" + key + "'");
+  return j[key].get<double>();
+}
+
+}  // namespace
+
+const ConfigSchema& compare_schema() {
+  static const ConfigSchema schema = make_schema();
+  return schema;
+}
+
+int run_compare(Config& c, const AppOptions&) {
+  const auto learned = load_model_file(c.string("learned"));
+  std::optional<Model> truth, reported;
+  if (c.has("truth")) truth = load_model_file(c.string("truth"));
+  if (c.has("reported")) reported = load_model_file(c.string("reported"));
+  const std::string rlabel = c.string_or("reported_label", "paper");
+
+  // union of parameter names, in the learned model's order, then the others
+  std::vector<std::string> names;
+  std::set<std::string> seen;
+  auto collect = [&](const Model& m) {
+    for (const auto& p : physical_parameters(m))
+      if (seen.insert(p.name).second) names.push_back(p.name);
+  };
+  if (truth) collect(*truth);
+  collect(learned);
+  if (reported) collect(*reported);
+  std::map<std::string, PhysicalParameter> lp;
+  for (const auto& p : physical_parameters(learned)) lp[p.name] = p;
+
+  std::printf("%-16s %11s %11s %24s %10s %9s\n", "parameter", truth ? "true" : "", reported ? rlabel.c_str() : "",
+              "learned +- stderr", truth ? "dev/se" : "", truth ? "rel.err" : "");
+  Table table({"true", "reported", "learned", "stderr"}, "parameter");
+  for (const auto& n : names) {
+    const double tv = truth ? get_parameter(*truth, n) : NAN;
+    const double rv = reported ? get_parameter(*reported, n) : NAN;
+    const bool has = lp.count(n) > 0;
+    const double lv = has ? lp[n].value : 0.0;
+    const double se = has && lp[n].stderr_ ? *lp[n].stderr_ : NAN;
+    char learned_text[64];
+    if (has && se > 0)
+      std::snprintf(learned_text, sizeof learned_text, "%.6g +- %.2g", lv, se);
+    else if (has)
+      std::snprintf(learned_text, sizeof learned_text, "%.6g", lv);
+    else
+      std::snprintf(learned_text, sizeof learned_text, "(not selected)");
+    char dev[32] = "", rel[32] = "";
+    if (truth && has && se > 0) std::snprintf(dev, sizeof dev, "%+.2f", (lv - tv) / se);
+    if (truth && tv != 0.0) std::snprintf(rel, sizeof rel, "%+.2f%%", 100.0 * (lv - tv) / std::abs(tv));
+    char tvs[32] = "", rvs[32] = "";
+    if (truth) std::snprintf(tvs, sizeof tvs, "%.6g", tv);
+    if (reported) std::snprintf(rvs, sizeof rvs, "%.6g", rv);
+    std::printf("%-16s %11s %11s %24s %10s %9s\n", n.c_str(), tvs, rvs, learned_text, dev, rel);
+    table.add_row(n, {tv, rv, has ? lv : NAN, se});
+  }
+  if (truth) {
+    auto support = [](const TermList& terms) {
+      std::set<std::string> s;
+      for (const auto& t : terms)
+        if (t.coef != 0.0) s.insert(t.term.name());
+      return s;
+    };
+    auto joined = [](const std::set<std::string>& s) {
+      std::string r;
+      for (const auto& n : s) r += (r.empty() ? "" : ", ") + n;
+      return r;
+    };
+    const bool same_drift = support(learned.drift) == support(truth->drift);
+    const bool same_diffusion = support(learned.diffusion) == support(truth->diffusion);
+    std::printf("\nselected drift terms:     %s  (%s)\n", joined(support(learned.drift)).c_str(),
+                same_drift ? "exactly the true ones" : "differs from the truth");
+    std::printf("selected diffusion terms: %s  (%s)\n", joined(support(learned.diffusion)).c_str(),
+                same_diffusion ? "exactly the true ones" : "differs from the truth");
+  }
+  if (c.has("fpk") || c.has("monte_carlo")) {
+    std::printf("\nStationary response of the learned model (mean power E(P) is proportional to E[Y^2]):\n");
+    nlohmann::json fpk, mc;
+    if (c.has("fpk")) fpk = read_json(c.string("fpk"));
+    if (c.has("monte_carlo")) mc = read_json(c.string("monte_carlo"));
+    for (const char* key : {"E[X^2]", "E[Y^2]", "E[XY]"}) {
+      std::printf("  %-7s", key);
+      if (c.has("fpk")) std::printf("  FPK %.6f", stat(fpk, key, c.string("fpk")));
+      if (c.has("monte_carlo")) {
+        const double v = stat(mc, key, c.string("monte_carlo"));
+        const double se = mc.contains("stderr") ? stat(mc["stderr"], key, c.string("monte_carlo")) : NAN;
+        std::printf("   Monte Carlo %.6f +- %.6f", v, se);
+        if (c.has("fpk") && se > 0)
+          std::printf("   (difference %+.2f se)", (stat(fpk, key, c.string("fpk")) - v) / se);
+      }
+      std::printf("\n");
+    }
+  }
+  if (c.has("output")) table.write_csv(c.string("output"));
+  return 0;
+}
+
+}  // namespace vehs::tools

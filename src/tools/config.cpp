@@ -1,0 +1,242 @@
+#include "tools/config.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+#include "vehs/core/error.hpp"
+
+namespace vehs::tools {
+
+namespace {
+
+// Levenshtein distance for "did you mean" suggestions.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::string suggestion(const std::string& key, const std::vector<std::string>& allowed) {
+  std::string best;
+  std::size_t best_d = 4;
+  for (const auto& k : allowed) {
+    const std::size_t d = edit_distance(key, k);
+    if (d < best_d) best_d = d, best = k;
+  }
+  if (!best.empty()) return " (did you mean '" + best + "'?)";
+  std::string all;
+  for (const auto& k : allowed) all += (all.empty() ? "" : ", ") + k;
+  return " (allowed: " + all + ")";
+}
+
+std::string type_name(const nlohmann::json& v) {
+  std::string s = v.dump();
+  if (s.size() > 40) s = s.substr(0, 37) + "...";
+  return s;
+}
+
+}  // namespace
+
+std::string ConfigSchema::help_text() const {
+  std::ostringstream os;
+  os << "Config keys (JSON object; unknown keys are rejected):\n";
+  for (const auto& k : keys) {
+    os << "  " << k.name << "  (" << k.type;
+    if (!k.default_text.empty())
+      os << ", default " << k.default_text;
+    else if (k.optional)
+      os << ", optional";
+    else
+      os << ", required";
+    os << ")\n";
+    // wrap help at ~90 columns, indented
+    std::istringstream words(k.help);
+    std::string w, line = "      ";
+    while (words >> w) {
+      if (line.size() + w.size() + 1 > 92) {
+        os << line << "\n";
+        line = "      ";
+      }
+      line += (line.size() > 6 ? " " : "") + w;
+    }
+    if (line.size() > 6) os << line << "\n";
+  }
+  if (!epilog.empty()) os << "\n" << epilog << "\n";
+  return os.str();
+}
+
+const KeySpec* ConfigSchema::find(const std::string& key) const {
+  for (const auto& k : keys)
+    if (k.name == key) return &k;
+  return nullptr;
+}
+
+Config::Config(nlohmann::json value, std::string file, std::string path)
+    : value_(std::move(value)), file_(std::move(file)), path_(std::move(path)) {}
+
+Config Config::load(const std::string& file, const ConfigSchema& schema) {
+  std::ifstream in(file);
+  if (!in) throw Error(file + ": cannot open config file");
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::parse_error& e) {
+    std::string what = e.what();
+    throw Error(file + ": not valid JSON (" + what.substr(what.find(']') + 2) + ")");
+  }
+  if (!j.is_object()) throw Error(file + ": a config must be a JSON object");
+  Config c(std::move(j), file);
+  std::vector<std::string> allowed;
+  for (const auto& k : schema.keys) allowed.push_back(k.name);
+  c.check_keys(allowed);
+  for (const auto& k : schema.keys)
+    if (k.default_text.empty() && !k.optional && !c.has(k.name))
+      throw Error(file + ": missing required key '" + k.name + "' (" + k.help.substr(0, 80) +
+                  ")");
+  return c;
+}
+
+void Config::set_override(const std::string& assignment, const ConfigSchema& schema) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw Error("--set expects key=value (got '" + assignment + "')");
+  const std::string key = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  if (!schema.find(key)) {
+    std::vector<std::string> allowed;
+    for (const auto& k : schema.keys) allowed.push_back(k.name);
+    throw Error("--set: unknown key '" + key + "'" + suggestion(key, allowed));
+  }
+  nlohmann::json v;
+  try {
+    v = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error&) {
+    v = text;  // bare strings need no quotes
+  }
+  value_[key] = v;
+}
+
+bool Config::has(const std::string& key) const { return value_.contains(key); }
+
+const nlohmann::json& Config::raw(const std::string& key) const {
+  if (!value_.contains(key)) fail(key, "is missing");
+  return value_.at(key);
+}
+
+std::string Config::where(const std::string& key) const {
+  return file_ + ": '" + (path_.empty() ? key : path_ + "." + key) + "'";
+}
+
+void Config::fail(const std::string& key, const std::string& message) const {
+  throw Error(where(key) + " " + message);
+}
+
+double Config::number(const std::string& key) const {
+  const auto& v = raw(key);
+  if (!v.is_number()) fail(key, "must be a number (got " + type_name(v) + ")");
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) fail(key, "must be finite");
+  return d;
+}
+
+double Config::number_or(const std::string& key, double fallback) const {
+  return has(key) ? number(key) : fallback;
+}
+
+double Config::positive(const std::string& key) const {
+  const double d = number(key);
+  if (!(d > 0.0)) fail(key, "must be > 0 (got " + type_name(raw(key)) + ")");
+  return d;
+}
+
+double Config::positive_or(const std::string& key, double fallback) const {
+  return has(key) ? positive(key) : fallback;
+}
+
+double Config::non_negative_or(const std::string& key, double fallback) const {
+  if (!has(key)) return fallback;
+  const double d = number(key);
+  if (d < 0.0) fail(key, "must be >= 0 (got " + type_name(raw(key)) + ")");
+  return d;
+}
+
+long long Config::integer(const std::string& key) const {
+  const auto& v = raw(key);
+  if (v.is_number_integer()) return v.get<long long>();
+  if (v.is_number_float()) {
+    const double d = v.get<double>();
+    if (std::isfinite(d) && d == std::floor(d) && std::abs(d) < 9e15)
+      return static_cast<long long>(d);
+  }
+  fail(key, "must be an integer (got " + type_name(v) + ")");
+}
+
+long long Config::integer_or(const std::string& key, long long fallback) const {
+  return has(key) ? integer(key) : fallback;
+}
+
+long long Config::integer_at_least(const std::string& key, long long min,
+                                   long long fallback) const {
+  if (!has(key)) return fallback;
+  const long long v = integer(key);
+  if (v < min) fail(key, "must be >= " + std::to_string(min) + " (got " + std::to_string(v) + ")");
+  return v;
+}
+
+bool Config::boolean_or(const std::string& key, bool fallback) const {
+  if (!has(key)) return fallback;
+  const auto& v = raw(key);
+  if (!v.is_boolean()) fail(key, "must be true or false (got " + type_name(v) + ")");
+  return v.get<bool>();
+}
+
+std::string Config::string(const std::string& key) const {
+  const auto& v = raw(key);
+  if (!v.is_string()) fail(key, "must be a string (got " + type_name(v) + ")");
+  return v.get<std::string>();
+}
+
+std::string Config::string_or(const std::string& key, const std::string& fallback) const {
+  return has(key) ? string(key) : fallback;
+}
+
+std::vector<std::string> Config::string_list(const std::string& key) const {
+  const auto& v = raw(key);
+  if (v.is_string()) return {v.get<std::string>()};
+  if (!v.is_array() || v.empty()) fail(key, "must be a string or a non-empty list of strings");
+  std::vector<std::string> out;
+  for (const auto& e : v) {
+    if (!e.is_string()) fail(key, "must contain only strings (got " + type_name(e) + ")");
+    out.push_back(e.get<std::string>());
+  }
+  return out;
+}
+
+Config Config::object(const std::string& key, const std::vector<std::string>& allowed) const {
+  const auto& v = raw(key);
+  if (!v.is_object()) fail(key, "must be an object (got " + type_name(v) + ")");
+  Config c(v, file_, path_.empty() ? key : path_ + "." + key);
+  if (!allowed.empty()) c.check_keys(allowed);
+  return c;
+}
+
+void Config::check_keys(const std::vector<std::string>& allowed) const {
+  for (auto it = value_.begin(); it != value_.end(); ++it)
+    if (std::find(allowed.begin(), allowed.end(), it.key()) == allowed.end())
+      throw Error(file_ + ": unknown key '" + (path_.empty() ? "" : path_ + ".") + it.key() +
+                  "'" + suggestion(it.key(), allowed));
+}
+
+
+}  // namespace vehs::tools

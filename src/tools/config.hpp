@@ -1,0 +1,75 @@
+#pragma once
+// JSON configs of the executables: one key table per tool is the single source for `--help`
+// and for rejecting unknown keys; typed getters give one-line errors naming file and key.
+// (Tools layer: not part of the library's public API.)
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace vehs::tools {
+
+struct KeySpec {
+  std::string name;
+  std::string type;           ///< e.g. "number", "string", "object|path", "[a, b, n]"
+  std::string help;           ///< one or more sentences
+  std::string default_text;   ///< empty: required (unless `optional`)
+  bool optional = false;      ///< optional without a default (feature switched off)
+};
+
+struct ConfigSchema {
+  std::string tool;     ///< executable name
+  std::string summary;  ///< what the tool does (first paragraph of --help)
+  std::vector<KeySpec> keys;
+  std::string epilog;   ///< extra help (examples, outputs)
+
+  /// The full key table as printed by --help.
+  std::string help_text() const;
+  const KeySpec* find(const std::string& key) const;
+};
+
+/// A view of one JSON object of a config file, remembering where it came from so that every
+/// error names the file and the key path ("sim.json: 'grid.x' must be [min, max, n]").
+class Config {
+ public:
+  Config(nlohmann::json value, std::string file, std::string path = "");
+
+  /// Reads and parses `file`; rejects keys not in `schema` (suggesting the closest name).
+  static Config load(const std::string& file, const ConfigSchema& schema);
+  /// Applies a "key=json" override (from --set) to the top-level object.
+  void set_override(const std::string& assignment, const ConfigSchema& schema);
+
+  bool has(const std::string& key) const;
+  const nlohmann::json& raw(const std::string& key) const;  ///< throws when missing
+  const nlohmann::json& json() const { return value_; }
+  const std::string& file() const { return file_; }
+  /// "file: 'path.key'" — the prefix used in error messages.
+  std::string where(const std::string& key) const;
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const;
+
+  double number(const std::string& key) const;
+  double number_or(const std::string& key, double fallback) const;
+  double positive(const std::string& key) const;  ///< finite and > 0
+  double positive_or(const std::string& key, double fallback) const;
+  double non_negative_or(const std::string& key, double fallback) const;
+  long long integer(const std::string& key) const;
+  long long integer_or(const std::string& key, long long fallback) const;
+  long long integer_at_least(const std::string& key, long long min, long long fallback) const;
+  bool boolean_or(const std::string& key, bool fallback) const;
+  std::string string(const std::string& key) const;
+  std::string string_or(const std::string& key, const std::string& fallback) const;
+  /// A string or list of strings as a list.
+  std::vector<std::string> string_list(const std::string& key) const;
+  /// A sub-object, rejecting keys outside `allowed` (empty: accept anything).
+  Config object(const std::string& key, const std::vector<std::string>& allowed = {}) const;
+  /// Checks that this object's keys are within `allowed`.
+  void check_keys(const std::vector<std::string>& allowed) const;
+
+ private:
+  nlohmann::json value_;
+  std::string file_;
+  std::string path_;
+};
+
+}  // namespace vehs::tools

@@ -1,0 +1,252 @@
+#include "tools/diagnose_tool.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "tools/diagnosis_file.hpp"
+#include "tools/diagnosis_report.hpp"
+#include "tools/history.hpp"
+#include "tools/html_report.hpp"
+#include "vehs/core/error.hpp"
+#include "vehs/io/atomic_file.hpp"
+#include "vehs/io/measurements.hpp"
+
+namespace vehs::tools {
+
+using namespace vehs::diagnose;
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string default_report(const std::string& output) {
+  fs::path p(output);
+  return (p.parent_path() / (p.stem().string() + "_report")).string();
+}
+
+std::string g(double v, int digits = 4) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*g", digits, v);
+  return b;
+}
+
+}  // namespace
+
+const ConfigSchema& diagnose_schema() {
+  static const ConfigSchema schema{
+      "diagnose-vehs",
+      "Diagnoses a model (contracts.md §2) against measured displacement records: how well does it "
+      "reproduce them, and where exactly does it fail? Data and, for every record, twins simulated "
+      "from the model (same duration, sampling, initial state, drive and measurement process) go "
+      "through identical statistics — whitened one-step residuals mapped over (x, v), their spectrum, "
+      "p(x, v), E[X^2], E[v^2], well probabilities and transition rates, the spectrum of x — compared "
+      "unit by unit with calibrated tests. Writes a JSON verdict and score (contracts.md §4), a report "
+      "folder (HTML page with gnuplot figures, their CSVs and scripts) and appends to the model history. "
+      "Term-like effects missing from the model are fitted on the first part of every record and ranked "
+      "by their held-out evidence (suspects).",
+      {
+          {"model", "path | object", "Model file to diagnose (contracts.md §2), or the model inline.", ""},
+          {"data", "path | [paths]", "Measurement files (CSV with t, x [, traj, u] columns, or structured .npy).", ""},
+          {"output", "path", "JSON summary to write (atomically): verdict, score, components, suspects and details.", ""},
+          {"report", "path", "Report folder (index.html, figures as SVG with their CSV data and gnuplot scripts, summary.json, history).",
+           "<output without .json>_report"},
+          {"history", "path", "Model history file appended by every run (the report plots the score over model versions).",
+           "<report>/history.json"},
+          {"label", "string", "Name of this model version in the history and the report.", "the model file's name"},
+          {"columns", "object", "Column names in the files: {\"x\": ..., \"t\": ..., \"u\": ..., \"traj\": ...}.",
+           "{\"x\": \"x\", \"t\": \"t\", \"u\": \"u\", \"traj\": \"traj\"}"},
+          {"dt", "number",
+           "Sampling interval: used for files without a time column, and checked against the time column of the "
+           "others (a record sampled at another interval is an error).",
+           "", true},
+          {"detrend", "string", "\"mean\": subtract each record's mean from x and u; \"none\": use the data as they are.", "\"none\""},
+          {"seed", "integer", "Seed of the twins and refits (results are reproducible and independent of the thread count).", "1"},
+          {"replicates", "integer", "Twins per record; 0 chooses enough for at least 2e6 twin samples (1 to 8).", "0"},
+          {"bins", "{\"x\", \"v\"}", "Bins of the one-step map over x and the lens velocity v (quantile range of the data).",
+           "{\"x\": 16, \"v\": 16}"},
+          {"min_bin_count", "number", "Rows a map bin needs on each side to enter the one-step test.", "200"},
+          {"min_units", "integer",
+           "With fewer records than this, every record is cut into time blocks treated as independent units.", "32"},
+          {"holdout", "number", "Fraction at the end of every record held out to score the suspects.", "0.3"},
+          {"suspects", "bool | object",
+           "Rank missing effects: true/false, or {\"z_threshold\": 3, \"min_blocks\": 20, \"effects\": [names], "
+           "\"confirm\": true} (significance of the held-out gain, held-out blocks for its standard error, effects "
+           "to try, confirm colored_noise against deterministic slow forces by refits).",
+           "true"},
+          {"suspect_samples", "number",
+           "The suspects use whole records, in order, up to this many samples (their refits are the slowest "
+           "part of a run); 0: all data.",
+           "4e6"},
+          {"alpha", "number", "Family-wise level of the verdict (Bonferroni over the components).", "0.01"},
+          {"lens", "string",
+           "Kinematics: auto (the model file's estimator, else the data's sampling diagnosis), forward (data from "
+           "an explicit scheme at the recorded step), central (a sensor sampling a continuous process).",
+           "\"auto\""},
+          {"stride", "integer", "Stride of the central kinematics (0: the model file's, else 1).", "0"},
+          {"sensor_noise", "number",
+           "Standard deviation of white sensor noise on x assumed for the lens and the twins (default: the model "
+           "file's, else the data's sampling diagnosis).",
+           "", true},
+          {"twin_scheme", "string",
+           "Scheme of the twins: auto (rk4_euler at the recorded step for scheme-consistent data, taylor15 on "
+           "substeps otherwise), euler_maruyama, rk4_euler, baoab, taylor15.",
+           "\"auto\""},
+          {"twin_substeps", "integer", "Internal steps per sample of the twins (0: 1 for scheme-consistent data, else 10).", "0"},
+          {"residual_lags", "integer", "Lags of the residual autocorrelation figure.", "64"},
+          {"parameter_uncertainty", "string",
+           "Include the model's parameter uncertainty in the stationary and x-spectrum tests (refit its terms on "
+           "pseudo-data simulated from it): auto (when the model file reports standard errors), on, off.",
+           "\"auto\""},
+          {"parameter_draws", "integer", "Refits behind the parameter uncertainty.", "8"},
+          {"parameter_fit_samples", "number", "Samples of each refit (the covariance is rescaled to the data size).", "2e6"},
+          {"fpk", "bool", "Solve the model's stationary Fokker-Planck equation as a reference curve.", "true"},
+          {"fpk_cells", "integer", "FPK cells per axis.", "160"},
+          {"check_model_sampling", "bool",
+           "Error when the model file says it was identified from data sampled at another interval.", "true"},
+      },
+      "Outputs: the JSON at `output` (verdict, score, components, suspects; tests with p-values, the one-step "
+      "map's worst bins and failure region, quantities, timings), the report folder and the history file. Exit "
+      "status 0 for either verdict, 1 for bad input.\n"
+      "Example: diagnose-vehs data/diagnose/paper.json --set model='\"out/paper/learned.json\"'"};
+  return schema;
+}
+
+diagnose::Options diagnose_options(const Config& c) {
+  Options o;
+  o.seed = static_cast<std::uint64_t>(c.integer_at_least("seed", 0, 1));
+  o.replicates = static_cast<int>(c.integer_at_least("replicates", 0, 0));
+  if (o.replicates > 1000) c.fail("replicates", "must be <= 1000");
+  if (c.has("bins")) {
+    const Config b = c.object("bins", {"x", "v"});
+    o.map_bins_x = static_cast<int>(b.integer_at_least("x", 2, 16));
+    o.map_bins_v = static_cast<int>(b.integer_at_least("v", 2, 16));
+    if (o.map_bins_x > 200 || o.map_bins_v > 200) c.fail("bins", "at most 200 per axis");
+  }
+  o.min_bin_count = c.positive_or("min_bin_count", 200);
+  if (o.min_bin_count < 10) c.fail("min_bin_count", "must be >= 10");
+  o.min_units = static_cast<int>(c.integer_at_least("min_units", 4, 32));
+  o.suspects.holdout = c.positive_or("holdout", 0.3);
+  if (!(o.suspects.holdout > 0.05 && o.suspects.holdout < 0.95)) c.fail("holdout", "must be in (0.05, 0.95)");
+  if (c.has("suspects")) {
+    const auto& v = c.raw("suspects");
+    if (v.is_boolean()) {
+      o.suspects.enabled = v.get<bool>();
+    } else if (v.is_object()) {
+      const Config s = c.object("suspects", {"z_threshold", "min_blocks", "effects", "enabled", "confirm"});
+      o.suspects.enabled = s.boolean_or("enabled", true);
+      o.suspects.confirm = s.boolean_or("confirm", true);
+      o.suspects.z_threshold = s.positive_or("z_threshold", 3.0);
+      o.suspects.min_blocks = static_cast<int>(s.integer_at_least("min_blocks", 2, 20));
+      if (s.has("effects"))
+        for (const auto& name : s.string_list("effects"))
+          o.suspects.only.push_back(enum_from_string(kEffectNames, name, s.where("effects")));
+    } else {
+      c.fail("suspects", "must be true, false or an object");
+    }
+  }
+  o.suspect_samples = c.non_negative_or("suspect_samples", 4e6);
+  o.alpha = c.positive_or("alpha", 0.01);
+  if (!(o.alpha < 0.5)) c.fail("alpha", "must be in (0, 0.5)");
+  o.lens = enum_from_string(kLensNames, c.string_or("lens", "auto"), c.where("lens"));
+  o.stride = static_cast<int>(c.integer_at_least("stride", 0, 0));
+  if (c.has("sensor_noise")) o.sensor_noise = c.non_negative_or("sensor_noise", 0.0);
+  const std::string scheme = c.string_or("twin_scheme", "auto");
+  if (scheme != "auto") {
+    o.twin_scheme_auto = false;
+    o.twin_scheme = enum_from_string(sim::kSchemeNames, scheme, c.where("twin_scheme") + " (or auto)");
+  }
+  o.twin_substeps = static_cast<int>(c.integer_at_least("twin_substeps", 0, 0));
+  o.residual_lags = static_cast<int>(c.integer_at_least("residual_lags", 1, 64));
+  o.parameter_uncertainty = enum_from_string(kParameterUncertaintyNames, c.string_or("parameter_uncertainty", "auto"),
+                                             c.where("parameter_uncertainty"));
+  o.parameter_draws = static_cast<int>(c.integer_at_least("parameter_draws", 2, 8));
+  o.parameter_fit_samples = c.positive_or("parameter_fit_samples", 2e6);
+  o.fpk = c.boolean_or("fpk", true);
+  o.fpk_cells = static_cast<int>(c.integer_at_least("fpk_cells", 20, 160));
+  o.check_model_sampling = c.boolean_or("check_model_sampling", true);
+  if (c.has("dt")) o.expected_dt = c.positive("dt");
+  if (auto why = o.invalid_reason(); !why.empty()) throw Error(c.file() + ": " + why);
+  return o;
+}
+
+int run_diagnose(Config& c, const AppOptions& app) {
+  const std::string output = c.string("output");
+  const std::string folder = c.has("report") ? c.string("report") : default_report(output);
+  const std::string history_path = c.has("history") ? c.string("history") : (fs::path(folder) / "history.json").string();
+  diagnose::Options o = diagnose_options(c);
+  o.progress = app.progress;
+  read_history(history_path);  // fail before the work when the history file is not usable
+  // model
+  const auto& mv = c.raw("model");
+  const std::string model_file = mv.is_string() ? mv.get<std::string>() : std::string("(inline)");
+  const Model model = model_from_config_value(mv, c.where("model"));
+  validate_model(model, model_file);
+  require(!model.drift.empty(), model_file + ": the model has no drift terms (a model file needs a 'drift' object)");
+  require(!model.diffusion.empty(),
+          model_file + ": the model has no diffusion terms (a model file needs a 'diffusion' object)");
+  const std::string label =
+      c.has("label") ? c.string("label") : (mv.is_string() ? fs::path(model_file).stem().string() : "inline model");
+  // data
+  ReadOptions ro;
+  if (c.has("columns")) {
+    const Config col = c.object("columns", {"x", "t", "u", "traj"});
+    ro.x_column = col.string_or("x", ro.x_column);
+    ro.t_column = col.string_or("t", ro.t_column);
+    ro.u_column = col.string_or("u", ro.u_column);
+    ro.traj_column = col.string_or("traj", ro.traj_column);
+  }
+  if (c.has("dt")) ro.dt = c.positive("dt");
+  ro.require_u = model.uses_drive();
+  ro.read_u = model.uses_drive();
+  ro.min_samples = 16;
+  const auto files = c.string_list("data");
+  if (files.empty()) c.fail("data", "lists no file");
+  Dataset data = read_measurements(files, ro);
+  const std::string detrend = c.string_or("detrend", "none");
+  if (detrend == "mean")
+    subtract_record_means(data);
+  else if (detrend != "none")
+    c.fail("detrend", "must be \"none\" or \"mean\" (got \"" + detrend + "\")");
+
+  const diagnose::Result r = diagnose::diagnose(model, data, o);
+
+  // history, report, JSON
+  const auto entries = append_history(history_path, history_entry(model, model_file, label, data, r));
+  Report report(folder, "diagnose-vehs: " + label);
+  add_diagnosis_to_report(report, r, label, entries, data_fingerprint(data));
+  nlohmann::ordered_json j = diagnosis_to_json(r);
+  j["model"] = model_file;
+  j["label"] = label;
+  j["data_files"] = files;
+  j["report"] = folder;
+  j["history"] = history_path;
+  j["version_in_history"] = entries.back().value("version", 0);
+  j["config"] = c.json();
+  j["provenance"] = {{"tool", "diagnose-vehs"}, {"library", "vehs 0.1.0"}};
+  write_json_atomically((fs::path(folder) / "summary.json").string(), j);
+  const std::string html = report.write_html();
+  write_json_atomically(output, j);
+  if (!app.quiet) {
+    std::printf("verdict: %s   score %s (adequate models score about %s)\n", r.verdict.c_str(), g(r.score).c_str(),
+                g(r.score_expected_adequate, 2).c_str());
+    for (const auto& comp : r.components)
+      std::printf("  %-18s %s\n", comp.name.c_str(),
+                  comp.test.available ? ("p = " + g(comp.test.p_value, 3) + ", size " + g(comp.test.excess, 3) +
+                                         (comp.test.p_value < r.threshold ? "  FAILED" : ""))
+                                            .c_str()
+                                      : ("not available: " + comp.test.note).c_str());
+    if (!r.suspects.ranked.empty()) {
+      std::printf("suspects (held-out evidence, nats):\n");
+      for (const auto& s : r.suspects.ranked)
+        std::printf("  %-26s %10s  z = %6s%s\n", s.effect.c_str(), g(s.evidence).c_str(), g(s.z, 3).c_str(),
+                    s.significant ? "  claimed" : "");
+    }
+    for (const auto& w : r.warnings) std::printf("warning: %s\n", w.c_str());
+    std::printf("report: %s\nsummary: %s\n", html.c_str(), output.c_str());
+  }
+  return 0;
+}
+
+}  // namespace vehs::tools

@@ -1,0 +1,144 @@
+#include "tools/diagnosis_file.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vehs::tools {
+
+namespace {
+using J = nlohmann::ordered_json;
+J num(double v) { return std::isfinite(v) ? J(v) : J(); }
+}  // namespace
+
+nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
+  using namespace vehs::diagnose;
+  J j;
+  j["verdict"] = r.verdict;
+  j["score"] = r.score;
+  J comp = J::object();
+  for (const auto& c : r.components) comp[c.name] = c.test.available ? J(c.test.excess) : J();
+  j["components"] = comp;
+  J sus = J::array();
+  for (const auto& s : r.suspects.ranked) {
+    J e;
+    e["effect"] = s.effect;
+    e["evidence"] = num(s.evidence);
+    e["params"] = s.params;
+    e["add"] = s.add;
+    e["z"] = num(s.z);
+    e["significant"] = s.significant;
+    e["held_out_significant"] = s.held_out_significant;
+    e["scale"] = s.scale;
+    e["params_stderr"] = s.params_stderr;
+    e["terms"] = s.terms;
+    if (!s.refit_verdict.empty()) e["refit"] = {{"verdict", s.refit_verdict}, {"score", num(s.refit_score)}};
+    sus.push_back(e);
+  }
+  j["suspects"] = sus;
+  // ---- details
+  j["score_definition"] =
+      "sum over the available components of max(0, chi2/dof - 1), chi2 the chi-square quantile "
+      "(dof degrees of freedom) of the component's p-value: about 0 for an adequate model, growing "
+      "with the misfit and the amount of data; lower is better";
+  j["score_expected_if_adequate"] = r.score_expected_adequate;
+  j["verdict_rule"] = "inadequate when a component's p-value is below alpha / (available components)";
+  j["threshold"] = r.threshold;
+  J tests = J::object();
+  for (const auto& c : r.components) {
+    J t;
+    t["what"] = c.what;
+    t["available"] = c.test.available;
+    t["p_value"] = c.test.available ? num(c.test.p_value) : J();
+    t["chi2"] = c.test.available ? num(c.test.chi2) : J();
+    t["dof"] = c.test.dof;
+    t["statistic"] = c.test.available ? num(c.test.statistic) : J();
+    t["excess"] = c.test.excess;
+    t["units"] = c.test.units;
+    t["method"] = c.test.method;
+    if (!c.test.note.empty()) t["note"] = c.test.note;
+    t["failed"] = c.test.available && c.test.p_value < r.threshold;
+    tests[c.name] = t;
+  }
+  j["tests"] = tests;
+  j["lens"] = {{"kinematics", r.lens.kinematics == Kinematics::Central ? "central" : "forward"},
+               {"stride", r.lens.stride},
+               {"dt", r.lens.dt},
+               {"sensor_noise_sd", r.lens.sensor_noise_sd},
+               {"description", r.lens.describe()}};
+  j["sampling"] = {{"data_verdict", r.sampling.data_verdict},
+                   {"model_verdict", r.sampling.model_verdict},
+                   {"model_estimator", r.sampling.model_estimator},
+                   {"data_dt", r.sampling.data_dt},
+                   {"model_dt", num(r.sampling.model_dt > 0 ? r.sampling.model_dt : NAN)},
+                   {"twin_scheme", r.sampling.twin_scheme},
+                   {"twin_substeps", r.sampling.twin_substeps},
+                   {"replicates", r.sampling.replicates}};
+  j["data"] = {{"records", r.records}, {"samples", r.samples}, {"rows", r.rows}, {"units", r.units}, {"unit_kind", r.unit_kind}};
+  j["parameter_uncertainty"] = {
+      {"refits", r.parameter_draws},
+      {"samples_per_refit", r.parameter_fit_samples},
+      {"method", r.parameter_draws > 0
+                     ? "the model's terms refitted by identify on pseudo-data simulated from the model, "
+                       "resimulated with common random numbers; the covariance of the shift of the "
+                       "stationary and x-spectrum statistics (rescaled to the data size) is added to "
+                       "their tests"
+                     : "not used (the model reports no standard errors, or parameter_uncertainty is off)"}};
+  J worst = J::array();
+  for (int b : r.map.worst) {
+    const MapBin& m = r.map.bins[static_cast<std::size_t>(b)];
+    worst.push_back({{"x", m.x}, {"v", m.v}, {"z_mean", m.z_mean}, {"mean_data", m.mean_data},
+                     {"mean_twin", m.mean_twin}, {"z_log_variance", m.z_var}, {"var_data", m.var_data},
+                     {"var_twin", m.var_twin}, {"rows_data", m.n_data}});
+  }
+  int used = 0;
+  for (const auto& b : r.map.bins) used += b.used;
+  auto vec = [](const std::vector<double>& v) {
+    J a = J::array();
+    for (double x : v) a.push_back(std::isfinite(x) ? J(x) : J());
+    return a;
+  };
+  auto argmax = [](const std::vector<double>& v) {
+    int k = -1;
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (std::isfinite(v[i]) && (k < 0 || v[i] > v[static_cast<std::size_t>(k)])) k = static_cast<int>(i);
+    return k;
+  };
+  const double wx = (r.map.x_hi - r.map.x_lo) / std::max(r.map.nx, 1), wv = (r.map.v_hi - r.map.v_lo) / std::max(r.map.nv, 1);
+  const int km = argmax(r.map.v_profile_mean), kx = argmax(r.map.x_profile_mean);
+  j["one_step_map"] = {
+      {"bins_x", r.map.nx}, {"bins_v", r.map.nv}, {"x_range", {r.map.x_lo, r.map.x_hi}},
+      {"v_range", {r.map.v_lo, r.map.v_hi}}, {"bins_used", used},
+      {"worst_bins", worst},
+      {"failure_region",
+       {{"v_column_center", km >= 0 ? J(r.map.v_lo + (km + 0.5) * wv) : J()},
+        {"x_row_center", kx >= 0 ? J(r.map.x_lo + (kx + 0.5) * wx) : J()},
+        {"explanation", "centres of the v column and x row with the largest mean z^2 of the residual mean"}}},
+      {"v_profile_mean_z2", vec(r.map.v_profile_mean)},
+      {"v_profile_var_z2", vec(r.map.v_profile_var)},
+      {"x_profile_mean_z2", vec(r.map.x_profile_mean)},
+      {"x_profile_var_z2", vec(r.map.x_profile_var)}};
+  J q = J::array();
+  for (const auto& x : r.quantities)
+    q.push_back({{"name", x.name}, {"data", num(x.data)}, {"data_se", num(x.data_se)}, {"twin", num(x.twin)},
+                 {"twin_se", num(x.twin_se)}, {"z", num(x.z)}, {"fpk", num(x.reference)}});
+  j["quantities"] = q;
+  j["hellinger"] = {{"p(x)", r.hellinger_px},
+                    {"p(x,v)", r.hellinger_pxy},
+                    {"p(x) twin vs twin", r.hellinger_px_null >= 0 ? J(r.hellinger_px_null) : J()},
+                    {"p(x,v) twin vs twin", r.hellinger_pxy_null >= 0 ? J(r.hellinger_pxy_null) : J()}};
+  J w = J::array();
+  for (const auto& x : r.wells)
+    w.push_back({{"x_min", x.x_min}, {"lo", num(x.lo)}, {"hi", num(x.hi)}, {"core", {x.core_lo, x.core_hi}}});
+  j["wells"] = w;
+  j["fpk"] = r.fpk_note;
+  J un = J::array();
+  for (const auto& [name, why] : r.suspects.untested) un.push_back({{"effect", name}, {"reason", why}});
+  j["untested_effects"] = un;
+  if (!r.suspects.note.empty()) j["suspects_note"] = r.suspects.note;
+  j["suspects_heldout"] = {{"rows", r.suspects.baseline_heldout_rows}, {"blocks", r.suspects.blocks}};
+  j["warnings"] = r.warnings;
+  j["timings"] = r.timings;
+  return j;
+}
+
+}  // namespace vehs::tools

@@ -1,0 +1,382 @@
+#include "tools/diagnosis_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "tools/table.hpp"
+
+namespace vehs::tools {
+
+using namespace vehs::diagnose;
+
+namespace {
+
+std::string g(double v, int digits = 4) {
+  if (!std::isfinite(v)) return "-";
+  std::ostringstream os;
+  os.precision(digits);
+  os << v;
+  return os.str();
+}
+
+std::string pm(double v, double se) { return g(v) + " ± " + g(se, 2); }
+
+/// A label safe for a CSV cell read by gnuplot.
+std::string label_text(std::string s) {
+  for (char& c : s)
+    if (c == ',' || c == '"' || c == '\n' || c == '\'') c = ' ';
+  return s;
+}
+
+const char* kDiverging =
+    "set palette defined (-5 '#2166ac', -2 '#92c5de', 0 '#f7f7f7', 2 '#f4a582', 5 '#b2182b')\n"
+    "set cbrange [-5:5]\n";
+
+Table curve_table(const Curve& c, const std::string& at_name, bool with_reference, std::size_t first = 0) {
+  std::vector<std::string> cols{at_name, "data", "data_se", "twin", "twin_se"};
+  if (with_reference) cols.push_back("reference");
+  Table t(cols);
+  for (std::size_t i = first; i < c.at.size(); ++i) {
+    std::vector<double> row{c.at[i], c.data[i], c.data_se[i], c.twin[i], c.twin_se[i]};
+    if (with_reference) row.push_back(i < c.reference.size() ? c.reference[i] : std::nan(""));
+    t.add_row(row);
+  }
+  return t;
+}
+
+/// gnuplot body of a data-vs-twins curve: twin band ±2 se, twin line, data points with error bars.
+std::string band_plot(const std::string& csv, const std::string& title, const std::string& xlabel,
+                      const std::string& ylabel, bool logx, bool logy, const std::string& extra = "") {
+  std::ostringstream os;
+  os << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel '" << ylabel << "'\n"
+     << "set key top right\nset grid\n";
+  if (logx) os << "set logscale x\n";
+  if (logy) os << "set logscale y\n";
+  const std::string lo = logy ? "($4-2*$5 > 0 ? $4-2*$5 : $4/10)" : "($4-2*$5)";
+  os << "plot '" << csv << "' skip 1 using 1:" << lo << ":($4+2*$5) with filledcurves fc rgb '#c6dbef' "
+     << "title 'model twins ± 2 se', \\\n"
+     << "  '' skip 1 using 1:4 with lines lw 2 lc rgb '#2171b5' title 'model twins', \\\n"
+     << "  '' skip 1 using 1:2:3 with yerrorbars pt 7 ps 0.4 lc rgb '#cb181d' title 'data ± se'" << extra << "\n";
+  return os.str();
+}
+
+}  // namespace
+
+void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const std::string& model_label,
+                             const std::vector<nlohmann::ordered_json>& history, const std::string& fingerprint) {
+  // ------------------------------------------------------------------ verdict
+  {
+    auto& s = report.section("Verdict");
+    std::ostringstream p;
+    p << "Model " << model_label << ": " << (r.verdict == "adequate" ? "ADEQUATE" : "INADEQUATE") << ". Score "
+      << g(r.score) << " (an adequate model scores about " << g(r.score_expected_adequate, 2)
+      << " on these components; lower is better; comparable between models fitted to the same data). "
+      << "A component fails when its p-value is below " << g(r.threshold, 3)
+      << " (family-wise level " << g(r.threshold * static_cast<double>(std::max<std::size_t>(1, r.components.size())), 2)
+      << ", Bonferroni over the available components).";
+    s.paragraphs.push_back(p.str());
+    s.paragraphs.push_back(
+        "How it works: the data and, for every record, twins simulated from the model (same duration, "
+        "sampling interval, initial state, drive and measurement process) go through the same "
+        "statistics; each component compares them unit by unit (" + r.unit_kind +
+        "), so estimator biases, transients and the sampling lens cancel. Size = max(0, chi2/dof - 1).");
+    ReportTable t;
+    t.caption = "Components";
+    t.header = {"component", "what is compared", "p-value", "chi2 / dof", "size", "status"};
+    for (std::size_t i = 0; i < r.components.size(); ++i) {
+      const auto& c = r.components[i];
+      const bool failed = c.test.available && c.test.p_value < r.threshold;
+      t.rows.push_back({c.name, c.what, c.test.available ? g(c.test.p_value, 3) : "-",
+                        c.test.available ? g(c.test.chi2, 4) + " / " + g(c.test.dof, 3) : "-",
+                        c.test.available ? g(c.test.excess, 3) : "-",
+                        !c.test.available ? "not available: " + c.test.note : failed ? "FAILED" : "ok"});
+      if (failed) t.highlight.push_back(i);
+    }
+    s.tables.push_back(t);
+    for (const auto& w : r.warnings) s.paragraphs.push_back("Warning: " + w);
+    Table bars({"minus_log10_p", "size"}, "component");
+    for (const auto& c : r.components)
+      if (c.test.available)
+        bars.add_row(label_text(c.name), {std::min(-std::log10(std::max(c.test.p_value, 1e-300)), 300.0), c.test.excess});
+    bars.write_csv(report.folder() + "/components.csv");
+    std::ostringstream body;
+    body << "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset ylabel '-log10 p'\nset logscale y\n"
+         << "set yrange [0.01:*]\nset xtics rotate by -30\nset title 'components of the verdict'\n"
+         << "plot 'components.csv' skip 1 using 0:($2 > 0.01 ? $2 : 0.01):xtic(1) with boxes lc rgb '#6baed6' "
+         << "notitle, " << -std::log10(std::max(r.threshold, 1e-300))
+         << " with lines dt 2 lc rgb 'black' title 'failure threshold'";
+    report.add_figure(s, "components",
+                      "Evidence against the model per component: -log10 of the p-value (bars, log scale). Above the "
+                      "dashed line the component fails (p below alpha / components).",
+                      body.str());
+  }
+
+  // ------------------------------------------------------------------ one-step map
+  {
+    auto& s = report.section("Where the model fails: one-step residuals over phase space");
+    s.paragraphs.push_back("Lens: " + r.lens.describe() + ". Residuals r = (a - b2(x, v)) / sqrt(c a22(x, v)/h).");
+    const OneStepMap& m = r.map;
+    Table t({"x", "v", "z_mean", "z_log_variance", "z_kurtosis", "mean_data", "mean_twin", "var_data", "var_twin",
+             "kurt_data", "kurt_twin", "rows_data", "rows_twin", "used"});
+    for (const auto& b : m.bins)
+      t.add_row({b.x, b.v, b.used ? b.z_mean : std::nan(""), b.used ? b.z_var : std::nan(""),
+                 b.used ? b.z_kurt : std::nan(""), b.mean_data, b.mean_twin, b.var_data, b.var_twin, b.kurt_data,
+                 b.kurt_twin, b.n_data, b.n_twin, b.used ? 1.0 : 0.0});
+    t.write_csv(report.folder() + "/one_step_map.csv");
+    const double wx = (m.x_hi - m.x_lo) / std::max(m.nx, 1), wv = (m.v_hi - m.v_lo) / std::max(m.nv, 1);
+    auto map_body = [&](int col, const std::string& title) {
+      std::ostringstream os;
+      os << "set title '" << title << "'\nset xlabel 'x'\nset ylabel 'v (lens velocity)'\n" << kDiverging
+         << "set cblabel 'z (clipped at ±5)'\nset xrange [" << m.x_lo << ":" << m.x_hi << "]\nset yrange [" << m.v_lo
+         << ":" << m.v_hi << "]\nset size ratio 0.75\n"
+         << "plot 'one_step_map.csv' skip 1 using 1:2:($14 > 0 ? ($" << col << " > 5 ? 5 : ($" << col
+         << " < -5 ? -5 : $" << col << ")) : NaN) with image pixels notitle";
+      return os.str();
+    };
+    (void)wx;
+    (void)wv;
+    report.add_figure(s, "one_step_mean",
+                      "Residual MEAN, data minus twins, as a z-score per (x, v) bin (paired jackknife over units). "
+                      "Red: the data's acceleration is larger than the model predicts there; blue: smaller. For an "
+                      "adequate model the colours are pale noise (|z| rarely above 3). A band at v = 0 points to dry "
+                      "friction, a pattern odd in x to asymmetric stiffness, the outer |x| to stops or stiffness. "
+                      "Edge bins also hold the rows beyond the range; white: too few rows.",
+                      map_body(3, "one-step residual mean: z of data - twins"));
+    report.add_figure(s, "one_step_variance",
+                      "Residual VARIANCE, z of log(var data / var twins) per bin. Red: the data are noisier than the "
+                      "model's diffusion a22(x, v) says (e.g. noise growing with |v|: velocity-dependent noise); "
+                      "blue: quieter.",
+                      map_body(4, "one-step residual variance: z of log(data/twins)"));
+    Table pv({"v", "mean_z2", "var_z2"});
+    for (int j = 0; j < m.nv; ++j)
+      pv.add_row({m.v_lo + (j + 0.5) * (m.v_hi - m.v_lo) / m.nv, m.v_profile_mean[static_cast<std::size_t>(j)],
+                  m.v_profile_var[static_cast<std::size_t>(j)]});
+    pv.write_csv(report.folder() + "/one_step_profile_v.csv");
+    Table px({"x", "mean_z2", "var_z2"});
+    for (int i = 0; i < m.nx; ++i)
+      px.add_row({m.x_lo + (i + 0.5) * (m.x_hi - m.x_lo) / m.nx, m.x_profile_mean[static_cast<std::size_t>(i)],
+                  m.x_profile_var[static_cast<std::size_t>(i)]});
+    px.write_csv(report.folder() + "/one_step_profile_x.csv");
+    report.add_figure(s, "one_step_profile",
+                      "Where along v (left) and x (right) the misfit sits: mean z² of the residual mean and "
+                      "log-variance over the bins of each column / row. About 1 (dashed) for an adequate model.",
+                      "set multiplot layout 1,2\nset grid\nset key top left\nset ylabel 'mean z^2'\n"
+                      "set xlabel 'v'\nplot 'one_step_profile_v.csv' skip 1 using 1:2 with linespoints pt 7 title "
+                      "'residual mean', '' skip 1 using 1:3 with linespoints pt 5 title 'residual variance', 1 "
+                      "with lines dt 2 lc rgb 'black' notitle\nset xlabel 'x'\nplot 'one_step_profile_x.csv' skip 1 "
+                      "using 1:2 with linespoints pt 7 title 'residual mean', '' skip 1 using 1:3 with linespoints "
+                      "pt 5 title 'residual variance', 1 with lines dt 2 lc rgb 'black' notitle\nunset multiplot");
+    ReportTable wt;
+    wt.caption = "Bins with the largest |z| of the residual mean";
+    wt.header = {"x", "v", "z mean", "mean data", "mean twins", "z log-variance", "rows (data)"};
+    for (int b : m.worst) {
+      const MapBin& mb = m.bins[static_cast<std::size_t>(b)];
+      wt.rows.push_back({g(mb.x, 3), g(mb.v, 3), g(mb.z_mean, 3), g(mb.mean_data, 3), g(mb.mean_twin, 3),
+                         g(mb.z_var, 3), g(mb.n_data, 6)});
+      if (std::abs(mb.z_mean) > 4) wt.highlight.push_back(wt.rows.size() - 1);
+    }
+    s.tables.push_back(wt);
+  }
+
+  // ------------------------------------------------------------------ residual memory
+  {
+    auto& s = report.section("Residual memory and periodicity");
+    curve_table(r.residual_acf, "lag", false, 1).write_csv(report.folder() + "/residual_acf.csv");
+    report.add_figure(s, "residual_acf",
+                      "Autocorrelation of the whitened residuals (lag in time units), data (points) vs twins (band). "
+                      "The lens itself correlates neighbouring residuals (central kinematics: +1/4 at the stride), so "
+                      "compare with the band, not with zero: data above the band at longer lags mean memory the model "
+                      "lacks (coloured excitation, a hidden electrical state).",
+                      band_plot("residual_acf.csv", "residual autocorrelation", "lag", "autocorrelation", false, false));
+    curve_table(r.residual_psd, "frequency", false).write_csv(report.folder() + "/residual_psd.csv");
+    report.add_figure(s, "residual_psd",
+                      "Power spectrum of the whitened residuals (cycles per time unit), data vs twins. A line the band "
+                      "lacks is periodic forcing; excess at low frequency is slow memory.",
+                      band_plot("residual_psd.csv", "residual spectrum", "frequency", "PSD", true, true));
+  }
+
+  // ------------------------------------------------------------------ stationary statistics
+  {
+    auto& s = report.section("Stationary statistics: densities, power, wells");
+    const bool fpk = !r.px.reference.empty();
+    curve_table(r.px, "x", true).write_csv(report.folder() + "/px.csv");
+    report.add_figure(s, "px",
+                      "Displacement density p(x): data (points ± se from the spread over units), model twins (band "
+                      "± 2 se)" + std::string(fpk ? ", and the stationary FPK density of the model (dashed; a "
+                      "reference only: records that start out of equilibrium differ from it, twins do not)." : ".") +
+                      " Hellinger distance data vs twins " + g(r.hellinger_px, 3) +
+                      (r.hellinger_px_null >= 0 ? " (twin vs twin: " + g(r.hellinger_px_null, 3) + ")" : "") + ".",
+                      band_plot("px.csv", "p(x)", "x", "density", false, false,
+                                fpk ? ", \\\n  '' skip 1 using 1:6 with lines dt 2 lw 2 lc rgb 'black' title 'FPK (stationary)'"
+                                    : ""));
+    Table pxy({"x", "v", "p_data", "p_twin"});
+    const double dx = (r.pxy_x_hi - r.pxy_x_lo) / std::max(r.pxy_nx, 1), dv = (r.pxy_v_hi - r.pxy_v_lo) / std::max(r.pxy_nv, 1);
+    double pmax = 0.0;
+    for (int i = 0; i < r.pxy_nx; ++i)
+      for (int j = 0; j < r.pxy_nv; ++j) {
+        const auto k = static_cast<std::size_t>(i * r.pxy_nv + j);
+        pxy.add_row({r.pxy_x_lo + (i + 0.5) * dx, r.pxy_v_lo + (j + 0.5) * dv, r.pxy_data[k], r.pxy_twin[k]});
+        pmax = std::max({pmax, r.pxy_data[k], r.pxy_twin[k]});
+      }
+    pxy.write_csv(report.folder() + "/pxy.csv");
+    std::ostringstream body;
+    body << "set multiplot layout 1,2\nset palette rgbformulae 33,13,10\nset cbrange [0:" << (pmax > 0 ? pmax : 1)
+         << "]\nset xlabel 'x'\nset ylabel 'v'\nset xrange [" << r.pxy_x_lo << ":" << r.pxy_x_hi << "]\nset yrange ["
+         << r.pxy_v_lo << ":" << r.pxy_v_hi << "]\nset title 'data'\nplot 'pxy.csv' skip 1 using 1:2:3 with image "
+         << "pixels notitle\nset title 'model twins'\nplot 'pxy.csv' skip 1 using 1:2:4 with image pixels notitle\n"
+         << "unset multiplot";
+    report.add_figure(s, "pxy",
+                      "Joint density p(x, v) of displacement and lens velocity: data (left) vs model twins (right), same "
+                      "colour scale. Hellinger distance " + g(r.hellinger_pxy, 3) +
+                          (r.hellinger_pxy_null >= 0 ? " (twin vs twin: " + g(r.hellinger_pxy_null, 3) + ")" : "") + ".",
+                      body.str());
+    ReportTable t;
+    t.caption = "Stationary quantities: data vs model twins (paired z over units; without the parameter uncertainty)";
+    t.header = {"quantity", "data", "model twins", "z", "FPK (stationary model)"};
+    for (std::size_t i = 0; i < r.quantities.size(); ++i) {
+      const auto& q = r.quantities[i];
+      t.rows.push_back({q.name, pm(q.data, q.data_se), pm(q.twin, q.twin_se), g(q.z, 3), g(q.reference)});
+      if (std::abs(q.z) > 3) t.highlight.push_back(i);
+    }
+    s.tables.push_back(t);
+    Table qz({"z", "relative_difference", "relative_se"}, "quantity");
+    for (const auto& q : r.quantities) {
+      const bool ok = std::isfinite(q.z) && std::abs(q.twin) > 0;
+      qz.add_row(label_text(q.name), {ok ? std::max(-20.0, std::min(20.0, q.z)) : 0.0,
+                                      ok ? (q.data - q.twin) / std::abs(q.twin) : 0.0,
+                                      ok ? std::hypot(q.data_se, q.twin_se) / std::abs(q.twin) : 0.0});
+    }
+    qz.write_csv(report.folder() + "/quantities.csv");
+    report.add_figure(s, "quantities",
+                      "Stationary quantities (power and wells components): paired z of data minus model twins per "
+                      "quantity (bars, clipped at ±20); dashed: ±3. A mean power (E[v^2]) or well occupancy the model "
+                      "does not reproduce stands out here.",
+                      "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset ylabel 'z (data - twins)'\n"
+                      "set xtics rotate by -30\nset title 'stationary quantities'\nplot 'quantities.csv' skip 1 using "
+                      "0:2:xtic(1) with boxes lc rgb '#fd8d3c' notitle, 3 with lines dt 2 lc rgb 'black' title '|z| = 3', "
+                      "-3 with lines dt 2 lc rgb 'black' notitle, 0 with lines lc rgb 'gray' notitle");
+    s.paragraphs.push_back(
+        "E[v^2] uses the lens velocity (a finite difference), so it is compared with the same quantity of the "
+        "twins; the FPK column gives the model's stationary E[Y^2] (the mean harvested power is proportional to "
+        "it). Wells come from the model's potential; a transition is counted when x enters the core (lower half) "
+        "of another well. " + r.fpk_note);
+  }
+
+  // ------------------------------------------------------------------ time statistics
+  {
+    auto& s = report.section("Time statistics of x");
+    curve_table(r.x_acf, "lag", false).write_csv(report.folder() + "/x_acf.csv");
+    report.add_figure(s, "x_acf",
+                      "Autocorrelation of x (lag in time units): data (points ± se over units) vs model twins (band ± 2 "
+                      "se). Neighbouring lags are strongly correlated: read the shape, the test uses spectral bands.",
+                      band_plot("x_acf.csv", "autocorrelation of x", "lag", "autocorrelation", false, false));
+    curve_table(r.x_psd, "frequency", false).write_csv(report.folder() + "/x_psd.csv");
+    report.add_figure(s, "x_psd",
+                      "Power spectrum of x (cycles per time unit; x block-averaged before the FFT, identically for both "
+                      "sides): data vs model twins. The acf component compares log-spaced bands of it.",
+                      band_plot("x_psd.csv", "power spectrum of x", "frequency", "PSD", true, true));
+  }
+
+  // ------------------------------------------------------------------ suspects
+  {
+    auto& s = report.section("Suspects: effects the model may be missing");
+    if (!r.suspects.note.empty()) s.paragraphs.push_back(r.suspects.note);
+    if (!r.suspects.ranked.empty()) {
+      s.paragraphs.push_back(
+          "Each effect was added to the model's terms, fitted by identify on the first part of every record and "
+          "scored on the held-out rest (" + g(r.suspects.baseline_heldout_rows, 6) + " rows in " +
+          std::to_string(r.suspects.blocks) + " blocks). Evidence = held-out log-likelihood gain in nats; z = gain / "
+          "its standard error over blocks. A suspect is claimed only when z is large, the gain positive and the "
+          "model inadequate. Merge the 'add' fragment into the identify-vehs config to try it.");
+      ReportTable t;
+      t.caption = "Suspects, most likely first";
+      t.header = {"effect", "evidence (nats)", "z", "claimed", "fitted parameters", "add to identify-vehs config"};
+      Table bars({"z", "evidence"}, "effect");
+      for (std::size_t i = 0; i < r.suspects.ranked.size(); ++i) {
+        const auto& sp = r.suspects.ranked[i];
+        std::string params;
+        for (auto it = sp.params.begin(); it != sp.params.end(); ++it) {
+          if (!params.empty()) params += ", ";
+          params += it.key() + " = " + (it.value().is_number() ? g(it.value().get<double>()) : it.value().dump());
+          if (sp.params_stderr.contains(it.key()) && sp.params_stderr[it.key()].is_number())
+            params += " ± " + g(sp.params_stderr[it.key()].get<double>(), 2);
+        }
+        t.rows.push_back({sp.effect, g(sp.evidence), g(sp.z, 3), sp.significant ? "yes" : "no", params, sp.add.dump()});
+        if (sp.significant) t.highlight.push_back(i);
+        bars.add_row(label_text(sp.effect), {std::isfinite(sp.z) ? sp.z : 0.0, sp.evidence});
+      }
+      s.tables.push_back(t);
+      bars.write_csv(report.folder() + "/suspects.csv");
+      report.add_figure(s, "suspects",
+                        "Held-out z of every tested effect (bars); dashed: the significance threshold. Bars below "
+                        "zero: the effect predicts held-out data worse than the model without it.",
+                        "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset ylabel 'held-out z'\n"
+                        "set xtics rotate by -30\nset title 'suspects'\nplot 'suspects.csv' skip 1 using 0:2:xtic(1) "
+                        "with boxes lc rgb '#6baed6' notitle, 3 with lines dt 2 lc rgb 'black' title 'threshold', 0 "
+                        "with lines lc rgb 'gray' notitle");
+    }
+    if (!r.suspects.untested.empty()) {
+      ReportTable t;
+      t.caption = "Effects not tested";
+      t.header = {"effect", "why"};
+      for (const auto& [name, why] : r.suspects.untested) t.rows.push_back({name, why});
+      s.tables.push_back(t);
+    }
+  }
+
+  // ------------------------------------------------------------------ history
+  {
+    auto& s = report.section("Model history");
+    Table h({"version", "score", "inadequate"}, "label");
+    ReportTable t;
+    t.caption = "Models diagnosed on these data (history file)";
+    t.header = {"version", "label", "verdict", "score", "drift terms", "effects", "time"};
+    for (const auto& e : history) {
+      if (e.value("data_fingerprint", "") != fingerprint) continue;
+      const double ver = e.value("version", 0.0);
+      h.add_row(label_text(e.value("label", "")),
+                {ver, e.value("score", 0.0), e.value("verdict", "") == "inadequate" ? 1.0 : 0.0});
+      std::string terms, effects;
+      if (e.contains("drift_terms"))
+        for (const auto& x : e["drift_terms"]) terms += (terms.empty() ? "" : " ") + x.get<std::string>();
+      if (e.contains("effects"))
+        for (const auto& x : e["effects"]) effects += (effects.empty() ? "" : " ") + x.get<std::string>();
+      t.rows.push_back({g(ver, 4), e.value("label", ""), e.value("verdict", ""), g(e.value("score", 0.0)), terms,
+                        effects, e.value("time", "")});
+    }
+    h.write_csv(report.folder() + "/history.csv");
+    report.add_figure(s, "history",
+                      "Score of every model version diagnosed on these same data (lower is better; red: inadequate). "
+                      "Adding a missing effect should bring the score down toward the level of an adequate model.",
+                      "set grid\nset xlabel 'model version'\nset ylabel 'score'\nset key top right\nset offsets 0.3, "
+                      "0.3, 0, 0\nset xtics 1\nset yrange [0:*]\nplot 'history.csv' skip 1 using 2:3 with linespoints "
+                      "pt 7 ps 1.2 lc rgb '#2171b5' title 'score', '' skip 1 using 2:($4 > 0 ? $3 : NaN) with points "
+                      "pt 7 ps 1.6 lc rgb '#cb181d' title 'inadequate', '' skip 1 using 2:3:1 with labels offset 0,1 "
+                      "font ',9' notitle");
+    s.tables.push_back(t);
+  }
+
+  // ------------------------------------------------------------------ settings
+  {
+    auto& s = report.section("Settings and provenance");
+    ReportTable t;
+    t.caption = "How the comparison was made";
+    t.header = {"item", "value"};
+    t.rows.push_back({"records / units", std::to_string(r.records) + " / " + std::to_string(r.units) + " (" + r.unit_kind + ")"});
+    t.rows.push_back({"samples / lens rows", std::to_string(r.samples) + " / " + std::to_string(r.rows)});
+    t.rows.push_back({"sampling of the data", r.sampling.data_verdict.empty() ? "-" : r.sampling.data_verdict});
+    t.rows.push_back({"model file says", r.sampling.model_verdict.empty() ? "-" : r.sampling.model_verdict + " (" + r.sampling.model_estimator + ")"});
+    t.rows.push_back({"lens", r.lens.describe()});
+    t.rows.push_back({"twins", std::to_string(r.sampling.replicates) + " per record, " + r.sampling.twin_scheme + " with " +
+                                   std::to_string(r.sampling.twin_substeps) + " substeps per sample" +
+                                   (r.sampling.sensor_noise_sd > 0 ? ", sensor noise sd " + g(r.sampling.sensor_noise_sd) : "")});
+    t.rows.push_back({"parameter uncertainty", r.parameter_draws > 0 ? std::to_string(r.parameter_draws) + " refits on " +
+                                                                           std::to_string(r.parameter_fit_samples) + " samples each"
+                                                                     : "not propagated"});
+    t.rows.push_back({"run time", g(r.timings.value("total", 0.0), 3) + " s"});
+    s.tables.push_back(t);
+  }
+}
+
+}  // namespace vehs::tools

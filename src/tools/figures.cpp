@@ -1,0 +1,47 @@
+#include "tools/figures.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include "vehs/io/atomic_file.hpp"
+
+namespace vehs::tools {
+
+bool gnuplot_available() {
+  static const bool available = std::system("command -v gnuplot >/dev/null 2>&1") == 0;
+  return available;
+}
+
+std::string render_figure(const std::string& dir, const std::string& name, const std::string& body,
+                          const std::string& format, int width, int height) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  const std::string out = name + "." + format;
+  std::ostringstream script;
+  if (format == "svg")
+    script << "set terminal svg size " << width << "," << height
+           << " dynamic enhanced font 'sans,12' background rgb 'white'\n";
+  else
+    script << "set terminal pngcairo size " << width << "," << height << " enhanced font 'sans,11'\n";
+  script << "set output '" << out << "'\nset datafile separator ','\n" << body << "\n";
+  write_file_atomically((fs::path(dir) / (name + ".gp")).string(), script.str());
+  if (!gnuplot_available()) {
+    std::fprintf(stderr, "warning: gnuplot not found; wrote %s/%s.gp without rendering it\n",
+                 dir.c_str(), name.c_str());
+    return "";
+  }
+  const std::string cmd = "cd '" + dir + "' && gnuplot '" + name + ".gp' 2>'" + name + ".log'";
+  if (std::system(cmd.c_str()) != 0) {
+    fs::remove(fs::path(dir) / out, ec);  // gnuplot leaves a partial figure behind
+    std::fprintf(stderr, "warning: gnuplot failed on %s/%s.gp (see %s.log)\n", dir.c_str(),
+                 name.c_str(), name.c_str());
+    return "";
+  }
+  fs::remove(fs::path(dir) / (name + ".log"), ec);
+  return (fs::path(dir) / out).string();
+}
+
+}  // namespace vehs::tools

@@ -1,0 +1,17 @@
+#pragma once
+// gnuplot figures written next to their data so that users can restyle them.
+#include <string>
+
+namespace vehs::tools {
+
+/// Writes `<dir>/<name>.gp` (the terminal/output lines followed by `body`) and runs gnuplot in
+/// `dir` to produce `<dir>/<name>.<format>` (format "svg" or "png"). The script refers to its
+/// data files by names relative to `dir`. Returns the figure's path, or an empty string (with a
+/// warning on stderr) when gnuplot is missing or fails; the script is kept either way.
+std::string render_figure(const std::string& dir, const std::string& name, const std::string& body,
+                          const std::string& format = "svg", int width = 800, int height = 560);
+
+/// True when a gnuplot executable is on the PATH.
+bool gnuplot_available();
+
+}  // namespace vehs::tools

@@ -1,0 +1,380 @@
+#include "tools/identify_tool.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "vehs/core/error.hpp"
+#include "vehs/core/parameters.hpp"
+#include "tools/study_output.hpp"
+#include "vehs/io/atomic_file.hpp"
+#include "vehs/identify/dynamic.hpp"
+#include "vehs/io/measurements.hpp"
+
+namespace vehs::tools {
+
+using namespace vehs::identify;
+
+namespace {
+
+const char* const kEffectsHelp =
+    "Physical effects to include (contracts.md §4): a list of names or {\"name\": ..., \"params\": "
+    "{...}}. Term-like effects (asymmetric_stiffness, coulomb_friction, quadratic_damping, "
+    "nonlinear_damping, velocity_dependent_noise) add their terms to the dictionaries and keep "
+    "them through the sparse regression; their physical parameters (e.g. mu = -coef of sign(y)) "
+    "are reported with standard errors under \"effect_params\" (given params are ignored: the "
+    "fit is linear). Dynamic effects are fitted by profile least squares of the drift contrast "
+    "over their nonlinear parameters, jointly with the drift terms, and written to the model's "
+    "\"effects\" with standard errors (sandwich, batch means); params given in the entry are held "
+    "fixed. impact_stop: force -k_stop*(x-gap) beyond gap and -k_stop*(x+gap_neg) beyond -gap_neg; "
+    "gaps from a grid of quantiles of x refined by scan, golden section and joint Newton steps, "
+    "k_stop linear (needs samples beyond the gaps). harmonic_forcing: amplitude*cos(omega*t + "
+    "phase) with t the records' absolute time; omega from the largest lines of the Welch "
+    "spectrum of the baseline residuals refined on the profile, then amplitude and phase (amplitude "
+    "can be fixed only together with phase). electromechanical_coupling: force -coupling*v with "
+    "dv = (y - lambda*v) dt, v filtered from x itself; lambda on a log grid from 1/(record "
+    "duration) to 0.2/h; weakly identifiable against damping and stiffness (its force at one "
+    "frequency mixes both), so expect larger standard errors on beta, lambda and coupling. "
+    "colored_noise (OU excitation, force eta with d eta = -eta/tau dt + sqrt(intensity)/tau dW): "
+    "tau and intensity from the exponential decay of the drift-residual autocovariance at lags >= "
+    "2 strides, drift refitted on Kalman prediction errors (GLS; unbiased damping), white a22 "
+    "from the residual variance minus the OU part; uses the uli estimator; cannot yet be combined "
+    "with the other dynamic effects. Details of the fit are written under "
+    "\"dynamic_fit\".";
+
+std::vector<Term> parse_term_list(const Config& c, const std::string& key) {
+  std::vector<Term> out;
+  for (const auto& name : c.string_list(key)) {
+    try {
+      out.push_back(Term::parse(name));
+    } catch (const Error& e) {
+      c.fail(key, e.what());
+    }
+  }
+  return out;
+}
+
+std::vector<Term> parse_library(const Config& c, const std::string& key, bool drift) {
+  if (!c.has(key)) return drift ? paper_drift_library(11, 3) : paper_diffusion_library(4);
+  const auto& v = c.raw(key);
+  if (v.is_string() && v.get<std::string>() == "paper")
+    return drift ? paper_drift_library(11, 3) : paper_diffusion_library(4);
+  if (v.is_object()) {
+    if (drift) {
+      const Config o = c.object(key, {"K1", "K2"});
+      const long long K1 = o.integer_at_least("K1", 0, 11), K2 = o.integer_at_least("K2", 0, 3);
+      if (K1 > 40 || K2 > 40 || K1 + K2 == 0) c.fail(key, "needs 0 <= K1, K2 <= 40 and K1 + K2 > 0");
+      return paper_drift_library(static_cast<int>(K1), static_cast<int>(K2));
+    }
+    const Config o = c.object(key, {"M"});
+    const long long M = o.integer_at_least("M", 0, 4);
+    if (M > 40) c.fail(key, "needs M <= 40");
+    return paper_diffusion_library(static_cast<int>(M));
+  }
+  std::vector<Term> lib = parse_term_list(c, key);
+  for (std::size_t i = 0; i < lib.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (lib[i] == lib[j]) c.fail(key, "lists the term '" + lib[i].name() + "' twice");
+  return lib;
+}
+
+
+std::vector<double> number_list(const Config& c, const std::string& key) {
+  const auto& v = c.raw(key);
+  std::vector<double> out;
+  if (v.is_number()) return {c.positive(key)};
+  if (!v.is_array() || v.empty()) c.fail(key, "must be a positive number or a list of them");
+  for (const auto& e : v) {
+    if (!e.is_number() || !(e.get<double>() > 0.0) || !std::isfinite(e.get<double>()))
+      c.fail(key, "must contain only positive numbers");
+    out.push_back(e.get<double>());
+  }
+  return out;
+}
+
+sim::InitialCondition parse_x0(const Config& c, const std::string& key, int records) {
+  sim::InitialCondition ic;
+  if (!c.has(key)) return ic;
+  const auto& v = c.raw(key);
+  if (v.is_object()) {
+    const Config o = c.object(key, {"uniform"});
+    const auto& u = o.raw("uniform");
+    if (!u.is_array() || u.size() != 2 || !u[0].is_number() || !u[1].is_number() ||
+        !(u[0].get<double>() <= u[1].get<double>()))
+      c.fail(key, "must be {\"uniform\": [a, b]} with a <= b");
+    ic.lo = u[0].get<double>();
+    ic.hi = u[1].get<double>();
+    return ic;
+  }
+  if (v.is_array()) {
+    if (static_cast<int>(v.size()) != records)
+      c.fail(key, "needs one value per record (" + std::to_string(records) + ")");
+    ic.uniform = false;
+    for (const auto& e : v) {
+      if (!e.is_number()) c.fail(key, "must contain numbers");
+      ic.values.push_back(e.get<double>());
+    }
+    return ic;
+  }
+  c.fail(key, "must be {\"uniform\": [a, b]} or a list of one value per record");
+}
+
+std::string g(double v, int digits = 6) {
+  std::ostringstream os;
+  os.precision(digits);
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+const ConfigSchema& identify_schema() {
+  static const ConfigSchema schema{
+      "identify-vehs",
+      "Identifies the drift b2(x, y) and diffusion a22(x) of dX = Y dt, dY = b2 dt + sqrt(a22) dB "
+      "from displacement records, with a standard error for every coefficient, and writes a model "
+      "file (contracts.md §2). With a `study` object it runs a consistency study instead (the "
+      "seed paper's Table 4): simulate, identify, tabulate mean (sd) per parameter.",
+      {
+          {"data", "path | [paths]",
+           "Measurement files (CSV with t, x [, traj, u] columns, or structured .npy). Required "
+           "unless `study` is given.",
+           "", true},
+          {"output", "path",
+           "Model file to write (JSON, atomically). In study mode: the study's JSON; a CSV table "
+           "is written beside it (same name, .csv).",
+           ""},
+          {"columns", "object",
+           "Column names in the files: {\"x\": ..., \"t\": ..., \"u\": ..., \"traj\": ...}, e.g. "
+           "{\"x\": \"V2\", \"u\": \"V1\"} for the Silverbox data.",
+           "{\"x\": \"x\", \"t\": \"t\", \"u\": \"u\", \"traj\": \"traj\"}"},
+          {"dt", "number", "Sampling interval for files without a time column.", "", true},
+          {"detrend", "string",
+           "\"mean\": subtract each record's mean from x and u (DC offsets of real sensors); "
+           "\"none\": use the data as they are.",
+           "\"none\""},
+          {"drift_library", "{\"K1\", \"K2\"} | [terms] | \"paper\"",
+           "Drift dictionary: the paper's Eq. 11 [1, x, ..., x^(K1-1), y, x y, ..., x^(K2-1) y], "
+           "or an explicit list of term names (\"x^3\", \"x^2*y\", \"y^3\", \"sign(y)\", "
+           "\"y*|y|\", \"u\").",
+           "{\"K1\": 11, \"K2\": 3}"},
+          {"diffusion_library", "{\"M\"} | [terms] | \"paper\"",
+           "Diffusion dictionary: the paper's Eq. 17 [1, x, ..., x^M], or a list of term names.",
+           "{\"M\": 4}"},
+          {"effects", "[names | {name, params}]", kEffectsHelp, "[]"},
+          {"keep_terms", "{\"drift\": [...], \"diffusion\": [...]}",
+           "Terms the sparse regression must never remove.", "{}"},
+          {"estimator", "string",
+           "auto (measure how the data were sampled and choose), paper (the seed paper's method, "
+           "for comparison: forward differences, raw Kramers-Moyal diffusion), forward (forward "
+           "differences + diffusion from drift residuals: data from an explicit scheme at the "
+           "recorded step), uli (underdamped Langevin inference with Ito correction: a sensor "
+           "sampling a continuous process), noisy (ULI on a stride, tolerating white sensor "
+           "noise on x).",
+           "\"auto\""},
+          {"stride", "integer",
+           "ULI stride k (uli, noisy): finite differences over k samples. 0 chooses: 1 for uli, "
+           "from the measured sensor-noise level for noisy.",
+           "0"},
+          {"discretization_correction", "boolean",
+           "uli, noisy: remove the O(h^2) error (h^2/12) x'''' of the central second difference "
+           "from the acceleration target (x'''' from a pilot drift fit).",
+           "true"},
+          {"sparsity", "string", "ssr (stepwise sparse regression), stlsq (thresholding), none.", "\"ssr\""},
+          {"ssr_rule", "string",
+           "Term SSR removes at each step: t_ratio (smallest |coef|/stderr, scale-free) or "
+           "abs_coef (smallest |coef|, as in the paper). Default: t_ratio (abs_coef for "
+           "estimator paper).",
+           "", true},
+          {"criterion", "string",
+           "How the SSR step is chosen: bic (n log(L/n)/phi + p log n with phi the measured "
+           "long-run variance factor of the residuals: consistent selection), cv_1se (blocked "
+           "cross-validation over contiguous time, one-standard-error rule), cv_min. CV figures "
+           "and BIC of every step are written either way.",
+           "\"bic\""},
+          {"folds", "integer", "Cross-validation folds: contiguous time blocks of every record.", "10"},
+          {"stlsq_threshold", "number", "STLSQ: |coef| threshold (coefficient units).", "0.05"},
+          {"se_block", "integer",
+           "Rows per batch of the batch-means covariance behind the standard errors (0: "
+           "automatic, >= 1024 and >= 50x the residual correlation range).",
+           "0"},
+          {"pilot_samples", "integer",
+           "Rows of the pilot fits that diagnose the sampling and set the diffusion weights.",
+           "250000"},
+          {"noise_share_target", "number",
+           "noisy: share of sensor noise in the variance of the acceleration estimate that the "
+           "automatic stride aims at (higher: smaller stride, less discretisation bias, more "
+           "variance).",
+           "0.95"},
+          {"study", "object",
+           "Consistency study instead of identification: {\"truth\": model or path, \"dt\": "
+           "number or list, \"samples\": number or list (per record; the grid is dt x samples), "
+           "\"repeats\": 10, \"records\": 10, \"scheme\": \"rk4_euler\", \"substeps\": 1, "
+           "\"x0\": {\"uniform\": [-1.5, 1.5]}, \"seed\": 1, \"sensor_noise\": 0, \"burn_in\": "
+           "0}. Prints the paper's Table 4 layout, writes JSON and CSV, and reports the coverage "
+           "of the nominal 95 % intervals.",
+           "", true},
+      },
+      "Outputs: the model file holds drift, diffusion, stderr and the extra keys estimator, "
+      "sampling (how the data were sampled), residuals, selection (the whole sparse-regression "
+      "path with BIC and CV figures), fit, data and provenance.\n"
+      "Examples: identify-vehs data/paper/identify.json (the paper's data, default settings); "
+      "identify-vehs data/identify/table4.json (the paper's Table 4 as a study)."};
+  return schema;
+}
+
+identify::Options identify_options(const Config& c) {
+  Options o;
+  o.drift_library = parse_library(c, "drift_library", true);
+  o.diffusion_library = parse_library(c, "diffusion_library", false);
+  if (c.has("effects")) {
+    const auto& ef = c.raw("effects");
+    if (!ef.is_array()) c.fail("effects", "must be a list of effect names or {name, params}");
+    for (std::size_t i = 0; i < ef.size(); ++i) {
+      const std::string where = c.where("effects") + "[" + std::to_string(i) + "]";
+      const Effect e = effect_from_json(ef[i], where, false);
+      if (e.id == EffectId::HarmonicForcing && e.params.count("amplitude") && !e.params.count("phase"))
+        throw Error(where + ".params.amplitude: harmonic_forcing's amplitude can only be held fixed together with phase");
+      if (e.id == EffectId::ColoredNoise)
+        for (const auto& prev : o.effects)
+          if (is_dynamic(prev.id) && prev.id != e.id)
+            throw Error(where + ": colored_noise cannot yet be combined with the dynamic effect '" + prev.name() + "'");
+      if (is_dynamic(e.id) && e.id != EffectId::ColoredNoise)
+        for (const auto& prev : o.effects)
+          if (prev.id == EffectId::ColoredNoise)
+            throw Error(where + ": colored_noise cannot yet be combined with the dynamic effect '" + e.name() + "'");
+      for (const auto& prev : o.effects)
+        if (prev.id == e.id) throw Error(where + ": effect '" + e.name() + "' is listed twice");
+      o.effects.push_back(e);
+    }
+  }
+  if (c.has("keep_terms")) {
+    const Config k = c.object("keep_terms", {"drift", "diffusion"});
+    if (k.has("drift")) o.keep_drift = parse_term_list(k, "drift");
+    if (k.has("diffusion")) o.keep_diffusion = parse_term_list(k, "diffusion");
+  }
+  o.estimator = enum_from_string(kEstimatorNames, c.string_or("estimator", "auto"), c.where("estimator"));
+  o.stride = static_cast<int>(c.integer_at_least("stride", 0, 0));
+  o.discretization_correction = c.boolean_or("discretization_correction", true);
+  o.sparsity = enum_from_string(kSparsityNames, c.string_or("sparsity", "ssr"), c.where("sparsity"));
+  if (c.has("ssr_rule")) {
+    o.ssr_rule = enum_from_string(kSsrRuleNames, c.string("ssr_rule"), c.where("ssr_rule"));
+    o.ssr_rule_set = true;
+  }
+  o.criterion = enum_from_string(kCriterionNames, c.string_or("criterion", "bic"), c.where("criterion"));
+  o.folds = static_cast<int>(c.integer_at_least("folds", 1, 10));
+  o.stlsq_threshold = c.non_negative_or("stlsq_threshold", 0.05);
+  o.se_block = static_cast<std::size_t>(c.integer_at_least("se_block", 0, 0));
+  o.pilot_samples = static_cast<std::size_t>(c.integer_at_least("pilot_samples", 1000, 250000));
+  o.noise_share_target = c.number_or("noise_share_target", 0.95);
+  if (!(o.noise_share_target > 0.0 && o.noise_share_target < 1.0))
+    c.fail("noise_share_target", "must be in (0, 1)");
+  if (auto why = o.invalid_reason(); !why.empty()) throw Error(c.file() + ": " + why);
+  return o;
+}
+
+ReadOptions identify_read_options(const Config& c, bool need_u) {
+  ReadOptions r;
+  if (c.has("columns")) {
+    const Config col = c.object("columns", {"x", "t", "u", "traj"});
+    r.x_column = col.string_or("x", r.x_column);
+    r.t_column = col.string_or("t", r.t_column);
+    r.u_column = col.string_or("u", r.u_column);
+    r.traj_column = col.string_or("traj", r.traj_column);
+  }
+  if (c.has("dt")) r.dt = c.positive("dt");
+  r.require_u = need_u;
+  r.read_u = need_u;
+  r.read_y = false;
+  r.min_samples = 16;
+  return r;
+}
+
+identify::StudyOptions study_options(const Config& c) {
+  const Config s = c.object("study", {"truth", "dt", "samples", "repeats", "records", "scheme",
+                                      "substeps", "x0", "seed", "sensor_noise", "burn_in"});
+  StudyOptions o;
+  o.truth = model_from_config_value(s.raw("truth"), s.where("truth"));
+  validate_model(o.truth, s.where("truth"));
+  const auto dts = number_list(s, "dt");
+  const auto ns = number_list(s, "samples");
+  for (double dt : dts)
+    for (double n : ns) {
+      if (n != std::floor(n) || n < 100) s.fail("samples", "must be integers >= 100");
+      o.points.push_back({dt, static_cast<std::size_t>(n)});
+    }
+  o.repeats = static_cast<int>(s.integer_at_least("repeats", 2, 10));
+  o.records = static_cast<int>(s.integer_at_least("records", 1, 10));
+  o.scheme = enum_from_string(sim::kSchemeNames, s.string_or("scheme", "rk4_euler"), s.where("scheme"));
+  o.substeps = static_cast<int>(s.integer_at_least("substeps", 1, 1));
+  o.x0 = parse_x0(s, "x0", o.records);
+  o.seed = static_cast<std::uint64_t>(s.integer_at_least("seed", 0, 1));
+  o.sensor_noise = s.non_negative_or("sensor_noise", 0.0);
+  o.burn_in = s.non_negative_or("burn_in", 0.0);
+  o.identify = identify_options(c);
+  if (auto why = o.invalid_reason(); !why.empty()) throw Error(c.file() + ": study: " + why);
+  return o;
+}
+
+int run_identify(Config& c, const AppOptions& app) {
+  const std::string output = c.string("output");
+  if (c.has("study")) {
+    if (c.has("data")) c.fail("data", "cannot be combined with 'study' (the study simulates its data)");
+    StudyOptions so = study_options(c);
+    so.progress = app.progress;
+    const StudyResult r = run_study(so);
+    nlohmann::ordered_json j = study_to_json(r);
+    j["config"] = c.json();
+    write_json_atomically(output, j);
+    std::filesystem::path csv(output);
+    csv.replace_extension(".csv");
+    study_table(r).write_csv(csv.string());
+    std::cout << study_text(r);
+    if (!app.quiet) std::cerr << "identify-vehs: wrote " << output << " and " << csv.string() << "\n";
+    return 0;
+  }
+  if (!c.has("data")) c.fail("data", "is missing (list the measurement files, or give 'study')");
+  Options o = identify_options(c);
+  o.progress = app.progress;
+  bool need_u = false;
+  for (const auto& t : o.drift_library) need_u = need_u || t.depends_on_u();
+  const ReadOptions ro = identify_read_options(c, need_u);
+  const auto files = c.string_list("data");
+  Dataset data = read_measurements(files, ro);
+  const std::string detrend = c.string_or("detrend", "none");
+  if (detrend == "mean")
+    subtract_record_means(data);
+  else if (detrend != "none")
+    c.fail("detrend", "must be \"none\" or \"mean\" (got \"" + detrend + "\")");
+  identify::Result r = identify::identify(data, o);
+  // data summary and provenance
+  nlohmann::ordered_json ds;
+  ds["files"] = files;
+  ds["records"] = data.records.size();
+  ds["samples"] = data.total_samples();
+  ds["dt"] = r.sampling.dt;
+  double duration = 0.0, xmin = data.x.empty() ? 0.0 : data.x[0], xmax = xmin;
+  for (const auto& rec : data.records) duration += static_cast<double>(rec.size - 1) * rec.dt;
+  for (double v : data.x) xmin = std::min(xmin, v), xmax = std::max(xmax, v);
+  ds["duration"] = duration;
+  ds["x_range"] = {xmin, xmax};
+  ds["detrend"] = detrend;
+  r.model.extra["data"] = ds;
+  r.model.extra["provenance"] = {{"tool", "identify-vehs"}, {"library", "vehs 0.1.0"}, {"config", c.json()}};
+  validate_model(r.model, output);
+  write_json_atomically(output, model_to_json(r.model));
+  if (!app.quiet) {
+    std::printf("estimator: %s (stride %d; %s)\n", enum_to_string(kEstimatorNames, r.estimator_used).c_str(),
+                r.stride, r.model.extra["estimator"]["reason"].get<std::string>().c_str());
+    std::printf("%-14s %14s %12s\n", "parameter", "value", "stderr");
+    for (const auto& p : physical_parameters(r.model))
+      std::printf("%-14s %14s %12s\n", p.name.c_str(), g(p.value).c_str(),
+                  p.stderr_ ? g(*p.stderr_, 3).c_str() : "");
+    std::printf("%zu rows in %.2f s; model written to %s\n", r.rows, r.seconds, output.c_str());
+  }
+  return 0;
+}
+
+}  // namespace vehs::tools

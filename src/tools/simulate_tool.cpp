@@ -1,0 +1,360 @@
+#include "tools/simulate_tool.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "tools/statistics_file.hpp"
+#include "vehs/core/error.hpp"
+#include "vehs/io/atomic_file.hpp"
+#include "vehs/io/measurements.hpp"
+
+namespace vehs::tools {
+
+using namespace vehs::sim;
+
+const ConfigSchema& simulate_schema() {
+  static const ConfigSchema schema{
+      "simulate-vehs",
+      "Simulates records of dX = Y dt, dY = b2 dt + sqrt(a22) dB (plus the model's named effects) "
+      "as a sensor samples them, writes them as a measurement file, and optionally Monte Carlo "
+      "statistics (moments with standard errors, histograms on the fpk-stationary grid).",
+      {
+          {"model", "object|path",
+           "The model (contracts.md section 2): an inline object or the path of a model file. Term-like "
+           "effects become drift/diffusion terms; impact_stop, harmonic_forcing, "
+           "electromechanical_coupling and colored_noise are simulated as dynamic effects.",
+           "", false},
+          {"trajectories", "integer >= 1", "Number of independent records.", "100", false},
+          {"duration", "number > 0",
+           "Length of each record in time units: samples = duration / dt recorded values at "
+           "t = 0, dt, ..., duration - dt (the paper: duration 100, dt 0.001 gives 10^5 samples). "
+           "Must be a whole number of dt.",
+           "100", false},
+          {"dt", "number > 0", "Recorded sampling interval.", "0.001", false},
+          {"substeps", "integer >= 1",
+           "Internal integration steps per recorded interval (h = dt / substeps): >1 emulates a "
+           "sensor sampling a continuous process.",
+           "1", false},
+          {"scheme", "string",
+           "Integration scheme: euler_maruyama (strong order 1 here), rk4_euler (the paper's Eq. 30: "
+           "RK4 drift + Euler noise), baoab (splitting with an exact Ornstein-Uhlenbeck step, small "
+           "long-run bias), taylor15 (Kloeden-Platen strong order 1.5; the most accurate per step).",
+           "taylor15", false},
+          {"seed", "integer >= 0",
+           "Seed of the counter-based generator (Philox-4x32-10). Records are identical whatever "
+           "--threads is.",
+           "1", false},
+          {"x0", "{\"uniform\": [a, b]} | [x per record] | number",
+           "Initial displacement: uniform in [a, b] (the paper: [-1.5, 1.5]), one value per record, "
+           "or one value for all.",
+           "{\"uniform\": [-1.5, 1.5]}", false},
+          {"y0", "number | {\"uniform\": [a, b]} | [y per record]", "Initial velocity.", "0", false},
+          {"burn_in", "number >= 0",
+           "Time simulated before t = 0 and not recorded (lets records forget x0, y0). Not with a "
+           "drive.",
+           "0", false},
+          {"sensor_noise", "number >= 0",
+           "Standard deviation of white Gaussian noise added to the recorded x (measurement noise; "
+           "the dynamics are not affected).",
+           "0", false},
+          {"record_velocity", "bool", "Also write the true velocity as column y.", "true", false},
+          {"drive", "{\"path\": file, \"column\": name, \"t_column\": name}",
+           "Recorded drive u for models with a 'u' term, read from a measurement file (CSV or .npy; "
+           "column defaults to \"u\", t_column to \"t\" and may be absent). It must be sampled at dt "
+           "and is held constant over each interval (zero-order hold). One record is shared by all "
+           "trajectories; otherwise the file needs one record per trajectory.",
+           "", true},
+          {"output", "path",
+           "Measurement file to write (columns traj, t, x[, y][, u]); .npy writes NumPy binary, "
+           "anything else CSV. Optional when 'statistics' is given.",
+           "", true},
+          {"statistics", "object",
+           "Monte Carlo statistics, accumulated while simulating (no records kept unless 'output' "
+           "is given): {\"output\": JSON path (required), \"discard\": time left out at the start "
+           "of each record (default 0), \"grid\": {\"x\": [min, max, n], \"y\": [min, max, n]} for "
+           "histograms on fpk-stationary's cell-centred grid, \"px\", \"py\", \"pxy\": CSV paths "
+           "(default: beside the JSON), \"batches\": batches per record for batch-means errors "
+           "(default 32)}. The JSON has E[X], E[Y], E[X^2], E[Y^2], E[XY], E[X^4] (and E[V^2] with "
+           "electromechanical coupling) and \"stderr\" for each: from the spread of independent "
+           "records when there are >= 16, else from batch means.",
+           "", true},
+          {"first_record", "integer >= 0",
+           "Id of the first record (traj column and random stream): runs with first_record = 0 and "
+           "= 100 give the same records as one run of 200.",
+           "0", false},
+          {"divergence_bound", "number > 0",
+           "A record whose |x| or |y| exceeds this (or becomes non-finite) stops the run with an "
+           "error naming it.",
+           "1e8", false},
+          {"allow_unconfined", "bool",
+           "Simulate even when the potential does not confine (leading power of the restoring "
+           "force even or with a positive coefficient, and no impact stop).",
+           "false", false},
+          {"summary", "path", "JSON report of the run (sizes, scheme, time, steps per second).", "",
+           true},
+      },
+      "Example (the seed paper's data): {\"model\": \"data/sim/paper_model.json\", \"trajectories\": "
+      "100, \"duration\": 100, \"dt\": 0.001, \"scheme\": \"rk4_euler\", \"x0\": {\"uniform\": "
+      "[-1.5, 1.5]}, \"output\": \"paper.npy\"}. See data/sim/README.md."};
+  return schema;
+}
+
+namespace {
+
+std::string num(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+// {"uniform": [a, b]}
+bool parse_uniform(const Config& c, const std::string& key, double& lo, double& hi) {
+  const auto& v = c.raw(key);
+  if (!v.is_object()) return false;
+  if (v.size() != 1 || !v.contains("uniform"))
+    c.fail(key, "must be {\"uniform\": [a, b]}, a number or a list of numbers");
+  const auto& u = v["uniform"];
+  if (!u.is_array() || u.size() != 2 || !u[0].is_number() || !u[1].is_number())
+    c.fail(key, "uniform must be [a, b] with numbers a <= b");
+  lo = u[0].get<double>();
+  hi = u[1].get<double>();
+  if (!std::isfinite(lo) || !std::isfinite(hi) || lo > hi) c.fail(key, "uniform must be [a, b] with finite a <= b");
+  return true;
+}
+
+std::vector<double> number_list(const Config& c, const std::string& key, std::size_t expected) {
+  const auto& v = c.raw(key);
+  std::vector<double> out;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!v[i].is_number()) c.fail(key, "element " + std::to_string(i) + " is not a number");
+    out.push_back(v[i].get<double>());
+    if (!std::isfinite(out.back())) c.fail(key, "element " + std::to_string(i) + " is not finite");
+  }
+  if (out.size() != expected)
+    c.fail(key, "has " + std::to_string(out.size()) + " values but there are " + std::to_string(expected) +
+                    " trajectories (one value per record)");
+  return out;
+}
+
+std::string beside(const std::string& json_path, const std::string& suffix) {
+  const auto dot = json_path.find_last_of('.');
+  const auto slash = json_path.find_last_of('/');
+  const std::string stem = dot != std::string::npos && (slash == std::string::npos || dot > slash)
+                               ? json_path.substr(0, dot)
+                               : json_path;
+  return stem + suffix;
+}
+
+void read_grid_axis(const Config& g, const std::string& axis, double& lo, double& hi, std::size_t& n) {
+  const auto& v = g.raw(axis);
+  if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
+    g.fail(axis, "must be [min, max, n]");
+  lo = v[0].get<double>();
+  hi = v[1].get<double>();
+  const double nd = v[2].get<double>();
+  if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi)) g.fail(axis, "needs finite min < max");
+  if (!(nd >= 1) || nd != std::floor(nd) || nd > 1e5) g.fail(axis, "n must be a whole number in [1, 1e5]");
+  n = static_cast<std::size_t>(nd);
+}
+
+}  // namespace
+
+SimulateJob simulate_job_from_config(const Config& c) {
+  SimulateJob job;
+  job.config_file = c.file();
+  job.model = model_from_config_value(c.raw("model"), c.where("model"));
+  SimulationOptions& o = job.options;
+  o.records = static_cast<int>(c.integer_at_least("trajectories", 1, 100));
+  if (c.integer_or("trajectories", 100) > 1000000000) c.fail("trajectories", "must be <= 1e9");
+  o.dt = c.positive_or("dt", 0.001);
+  const double duration = c.positive_or("duration", 100.0);
+  const double ratio = duration / o.dt;
+  const double samples = std::round(ratio);
+  if (std::abs(ratio - samples) > 1e-6 * std::max(1.0, ratio))
+    c.fail("duration", "must be a whole number of dt (duration / dt = " + num(ratio) + ")");
+  if (samples < 2) c.fail("duration", "must be at least 2·dt (a record needs 2 samples)");
+  if (samples > 1e12) c.fail("duration", "gives more than 1e12 samples per record");
+  o.samples = static_cast<std::size_t>(samples);
+  const long long substeps = c.integer_at_least("substeps", 1, 1);
+  if (substeps > 1000000) c.fail("substeps", "must be <= 1e6");
+  o.substeps = static_cast<int>(substeps);
+  o.scheme = enum_from_string(kSchemeNames, c.string_or("scheme", "taylor15"), c.where("scheme"));
+  const long long seed = c.integer_or("seed", 1);
+  if (seed < 0) c.fail("seed", "must be >= 0");
+  o.seed = static_cast<std::uint64_t>(seed);
+  const long long first = c.integer_or("first_record", 0);
+  if (first < 0) c.fail("first_record", "must be >= 0");
+  o.first_record = static_cast<std::uint64_t>(first);
+
+  // initial conditions
+  if (c.has("x0")) {
+    double lo = 0, hi = 0;
+    const auto& v = c.raw("x0");
+    if (parse_uniform(c, "x0", lo, hi)) {
+      o.x0.uniform = true;
+      o.x0.lo = lo;
+      o.x0.hi = hi;
+    } else if (v.is_array()) {
+      o.x0.uniform = false;
+      o.x0.values = number_list(c, "x0", static_cast<std::size_t>(o.records));
+    } else if (v.is_number()) {
+      o.x0.uniform = false;
+      o.x0.values.assign(static_cast<std::size_t>(o.records), c.number("x0"));
+    } else {
+      c.fail("x0", "must be {\"uniform\": [a, b]}, a number or a list of numbers");
+    }
+  }
+  if (c.has("y0")) {
+    double lo = 0, hi = 0;
+    const auto& v = c.raw("y0");
+    if (parse_uniform(c, "y0", lo, hi)) {
+      o.x0.y_uniform = true;
+      o.x0.y_lo = lo;
+      o.x0.y_hi = hi;
+    } else if (v.is_array()) {
+      o.x0.y_values = number_list(c, "y0", static_cast<std::size_t>(o.records));
+    } else if (v.is_number()) {
+      o.x0.y0 = c.number("y0");
+    } else {
+      c.fail("y0", "must be a number, {\"uniform\": [a, b]} or a list of numbers");
+    }
+  }
+  o.burn_in = c.non_negative_or("burn_in", 0.0);
+  o.sensor_noise = c.non_negative_or("sensor_noise", 0.0);
+  job.record_velocity = c.boolean_or("record_velocity", true);
+  o.record_y = job.record_velocity;
+  o.divergence_bound = c.positive_or("divergence_bound", 1e8);
+  o.allow_unconfined = c.boolean_or("allow_unconfined", false);
+
+  // drive
+  if (c.has("drive")) {
+    const Config d = c.object("drive", {"path", "column", "t_column"});
+    ReadOptions ro;
+    ro.x_column = d.string_or("column", "u");
+    ro.t_column = d.string_or("t_column", "t");
+    ro.dt = o.dt;
+    ro.read_u = false;
+    const std::string path = d.string("path");
+    Dataset drive = read_measurements(path, ro);
+    for (const auto& r : drive.records)
+      if (std::abs(r.dt - o.dt) > 1e-6 * o.dt)
+        c.fail("drive", path + " record " + std::to_string(r.id) + " is sampled at " + num(r.dt) +
+                            " but dt = " + num(o.dt) + " (resample the drive first)");
+    if (drive.records.size() == 1) {
+      o.drive.assign(drive.x.begin(), drive.x.end());
+    } else if (drive.records.size() == static_cast<std::size_t>(o.records)) {
+      for (const auto& r : drive.records)
+        o.drive_per_record.emplace_back(drive.x_of(r), drive.x_of(r) + r.size);
+    } else {
+      c.fail("drive", path + " has " + std::to_string(drive.records.size()) +
+                          " records: give one (shared) or one per trajectory (" +
+                          std::to_string(o.records) + ")");
+    }
+  }
+
+  if (c.has("output")) {
+    job.output = c.string("output");
+    if (job.output.empty()) c.fail("output", "must be a file path");
+  }
+  if (c.has("statistics")) {
+    const Config s = c.object("statistics", {"output", "discard", "grid", "px", "py", "pxy", "batches"});
+    job.with_statistics = true;
+    job.statistics_json = s.string("output");
+    job.statistics.discard = s.non_negative_or("discard", 0.0);
+    job.statistics.batches = static_cast<std::size_t>(s.integer_at_least("batches", 2, 32));
+    if (s.has("grid")) {
+      const Config g = s.object("grid", {"x", "y"});
+      job.statistics.histograms = true;
+      read_grid_axis(g, "x", job.statistics.x_min, job.statistics.x_max, job.statistics.nx);
+      read_grid_axis(g, "y", job.statistics.y_min, job.statistics.y_max, job.statistics.ny);
+      job.px_csv = s.string_or("px", beside(job.statistics_json, "_px.csv"));
+      job.py_csv = s.string_or("py", beside(job.statistics_json, "_py.csv"));
+      job.pxy_csv = s.string_or("pxy", beside(job.statistics_json, "_pxy.csv"));
+    } else if (s.has("px") || s.has("py") || s.has("pxy")) {
+      s.fail("grid", "is needed for histograms (px, py, pxy)");
+    }
+    if (auto why = job.statistics.invalid_reason(); !why.empty()) c.fail("statistics", why);
+    if (static_cast<double>(std::llround(job.statistics.discard / o.dt)) >= static_cast<double>(o.samples))
+      s.fail("discard", "leaves no samples (records last " + num(duration) + ")");
+  }
+  if (job.output.empty() && !job.with_statistics)
+    throw Error(c.file() + ": give 'output' (records) and/or 'statistics' — nothing would be written");
+  if (c.has("summary")) job.summary = c.string("summary");
+
+  check_simulation(job.model, o, c.file());
+  return job;
+}
+
+int run_simulate_job(const SimulateJob& job, const AppOptions& app) {
+  SimulationOptions o = job.options;
+  o.progress = app.progress;
+  SimulationSummary summary;
+  Dataset data;
+  MonteCarloStatistics stats;
+  if (job.with_statistics)
+    stats = simulate_statistics(job.model, o, job.statistics, &summary, job.output.empty() ? nullptr : &data);
+  else
+    simulate(job.model, o, data, &summary);
+
+  if (!job.output.empty()) {
+    WriteColumns cols;
+    cols.with_y = job.record_velocity;
+    cols.with_u = data.has_u();
+    write_measurements(job.output, data, cols);
+  }
+  if (job.with_statistics) {
+    nlohmann::ordered_json sim;
+    sim["scheme"] = summary.scheme;
+    sim["dt"] = o.dt;
+    sim["substeps"] = o.substeps;
+    sim["trajectories"] = o.records;
+    sim["samples_per_record"] = o.samples;
+    sim["burn_in"] = o.burn_in;
+    sim["seed"] = o.seed;
+    sim["first_record"] = o.first_record;
+    nlohmann::ordered_json extra;
+    extra["simulation"] = sim;
+    write_statistics(stats, job.statistics_json, job.px_csv, job.py_csv, job.pxy_csv, extra);
+  }
+  if (!job.summary.empty()) {
+    nlohmann::ordered_json s;
+    s["config"] = job.config_file;
+    s["scheme"] = summary.scheme;
+    s["dt"] = o.dt;
+    s["substeps"] = o.substeps;
+    s["h"] = summary.h;
+    s["trajectories"] = summary.records;
+    s["samples_per_record"] = o.samples;
+    s["steps"] = summary.steps;
+    s["seconds"] = summary.seconds;
+    s["steps_per_second"] = summary.steps_per_second;
+    s["threads"] = summary.threads;
+    s["seed"] = o.seed;
+    s["model"] = model_to_json(job.model);
+    write_json_atomically(job.summary, s);
+  }
+  if (!app.quiet) {
+    std::fprintf(stderr,
+                 "simulate-vehs: %zu records x %zu samples, %s, h = %g: %.3g steps in %.2f s "
+                 "(%.1f M steps/s, %d threads)\n",
+                 summary.records, o.samples, summary.scheme.c_str(), summary.h,
+                 static_cast<double>(summary.steps), summary.seconds, summary.steps_per_second / 1e6,
+                 summary.threads);
+    if (!job.output.empty()) std::fprintf(stderr, "  records    -> %s\n", job.output.c_str());
+    if (job.with_statistics) {
+      const auto& ey2 = stats.moment("E[Y^2]");
+      const auto& ex2 = stats.moment("E[X^2]");
+      std::fprintf(stderr, "  statistics -> %s  (E[X^2] = %.5g ± %.2g, E[Y^2] = %.5g ± %.2g)\n",
+                   job.statistics_json.c_str(), ex2.value, ex2.stderr_, ey2.value, ey2.stderr_);
+    }
+  }
+  return 0;
+}
+
+int run_simulate(Config& config, const AppOptions& app) {
+  return run_simulate_job(simulate_job_from_config(config), app);
+}
+
+}  // namespace vehs::tools

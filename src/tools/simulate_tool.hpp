@@ -1,0 +1,40 @@
+#pragma once
+// simulate-vehs: key table (the single source of --help), parsing of a config into
+// SimulationOptions / StatisticsOptions, and running a parsed job (simulate, write the records and
+// the statistics). apps/simulate_vehs.cpp calls simulate_main; tests use the parts directly.
+#include <string>
+
+#include "tools/app.hpp"
+#include "tools/config.hpp"
+#include "vehs/core/model.hpp"
+#include "vehs/sim/simulate.hpp"
+
+namespace vehs::tools {
+
+struct SimulateJob {
+  Model model;
+  sim::SimulationOptions options;
+  std::string output;            ///< measurement file (.csv or .npy); empty: none
+  bool record_velocity = true;   ///< write the y column
+  bool with_statistics = false;
+  sim::StatisticsOptions statistics;
+  std::string statistics_json, px_csv, py_csv, pxy_csv;
+  std::string summary;           ///< run report JSON; empty: none
+  std::string config_file;
+};
+
+/// The key table of simulate-vehs.
+const ConfigSchema& simulate_schema();
+
+/// Parses and checks a loaded config (model, options, drive file, statistics); throws a
+/// one-line vehs::Error naming the file and key.
+SimulateJob simulate_job_from_config(const Config& config);
+
+/// Runs a job: simulates, writes the outputs atomically, reports on stderr unless quiet.
+/// Returns the exit status (0).
+int run_simulate_job(const SimulateJob& job, const AppOptions& app);
+
+/// The body of simulate-vehs: parse, check, run.
+int run_simulate(Config& config, const AppOptions& app);
+
+}  // namespace vehs::tools

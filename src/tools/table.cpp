@@ -1,0 +1,43 @@
+#include "tools/table.hpp"
+
+#include <iomanip>
+#include <sstream>
+
+#include "vehs/io/atomic_file.hpp"
+#include "vehs/core/error.hpp"
+
+namespace vehs::tools {
+
+void Table::add_row(std::vector<double> row) {
+  require(row.size() == columns.size(), "table row has " + std::to_string(row.size()) +
+                                            " values for " + std::to_string(columns.size()) + " columns");
+  rows.push_back(std::move(row));
+}
+
+void Table::add_row(std::string label, std::vector<double> row) {
+  require(!label_column.empty(), "table has no label column");
+  require(labels.size() == rows.size(), "table mixes labelled and unlabelled rows");
+  add_row(std::move(row));
+  labels.push_back(std::move(label));
+}
+
+std::string Table::to_csv(int precision) const {
+  std::ostringstream os;
+  const bool labelled = !label_column.empty();
+  if (labelled) os << label_column << (columns.empty() ? "" : ",");
+  for (std::size_t i = 0; i < columns.size(); ++i) os << (i ? "," : "") << columns[i];
+  os << "\n" << std::setprecision(precision);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto& r = rows[k];
+    if (labelled) os << labels[k] << (r.empty() ? "" : ",");
+    for (std::size_t i = 0; i < r.size(); ++i) os << (i ? "," : "") << r[i];
+    os << "\n";
+  }
+  return os.str();
+}
+
+void Table::write_csv(const std::string& path, int precision) const {
+  write_file_atomically(path, to_csv(precision));
+}
+
+}  // namespace vehs::tools

@@ -1,0 +1,52 @@
+#include <catch2/catch.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "tools/config.hpp"
+#include "vehs/core/error.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+vehs::tools::ConfigSchema schema() {
+  return {"tool", "does things",
+          {{"dt", "number", "sampling interval", ""},
+           {"substeps", "integer", "internal steps", "1"},
+           {"output", "string", "output path", "out.csv"}},
+          ""};
+}
+std::string write_temp(const std::string& name, const std::string& text) {
+  const auto p = fs::temp_directory_path() / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+}  // namespace
+
+TEST_CASE("configs reject unknown keys with a suggestion", "[config]") {
+  const auto f = write_temp("vehs_cfg1.json", R"({"dt": 0.01, "substep": 3})");
+  CHECK_THROWS_WITH(vehs::tools::Config::load(f, schema()),
+                    Catch::Contains("unknown key 'substep'") && Catch::Contains("did you mean 'substeps'"));
+}
+
+TEST_CASE("configs name the file and key of a bad value", "[config]") {
+  const auto f = write_temp("vehs_cfg2.json", R"({"dt": -1, "substeps": 2.5})");
+  auto c = vehs::tools::Config::load(f, schema());
+  CHECK_THROWS_WITH(c.positive("dt"), Catch::Contains("vehs_cfg2.json: 'dt' must be > 0"));
+  CHECK_THROWS_WITH(c.integer("substeps"), Catch::Contains("'substeps' must be an integer"));
+  const auto g = write_temp("vehs_cfg3.json", R"({"substeps": 2})");
+  CHECK_THROWS_WITH(vehs::tools::Config::load(g, schema()), Catch::Contains("missing required key 'dt'"));
+  const auto h = write_temp("vehs_cfg4.json", R"({"dt": 0.1,)");
+  CHECK_THROWS_WITH(vehs::tools::Config::load(h, schema()), Catch::Contains("not valid JSON"));
+}
+
+TEST_CASE("set-overrides parse JSON or bare strings", "[config]") {
+  const auto f = write_temp("vehs_cfg5.json", R"({"dt": 0.01})");
+  auto c = vehs::tools::Config::load(f, schema());
+  c.set_override("substeps=4", schema());
+  c.set_override("output=a/b.csv", schema());
+  CHECK(c.integer("substeps") == 4);
+  CHECK(c.string("output") == "a/b.csv");
+  CHECK_THROWS_AS(c.set_override("nope=1", schema()), vehs::Error);
+}

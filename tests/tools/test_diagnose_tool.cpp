@@ -1,0 +1,145 @@
+// diagnose-vehs end to end through its main(): config → JSON per contracts.md §4, a report that
+// renders in headless Chromium with every figure, the model history across two model versions,
+// and bad inputs rejected with exit status 1.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "../diagnose/diagnose_fixtures.hpp"
+#include "chromium.hpp"
+#include "tools/history.hpp"
+#include "tools/tools.hpp"
+#include "vehs/io/atomic_file.hpp"
+
+namespace fs = std::filesystem;
+using namespace diag_test;
+
+namespace {
+
+int run(const std::vector<std::string>& args) {
+  std::vector<std::string> a{"diagnose-vehs"};
+  a.insert(a.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& s : a) argv.push_back(s.data());
+  return vehs::tools::diagnose_main(static_cast<int>(argv.size()), argv.data());
+}
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+}
+
+}  // namespace
+
+TEST_CASE("diagnose-vehs end to end: contract JSON, report in Chromium, history over two model versions",
+          "[diagnose][app]") {
+  const fs::path dir = fs::temp_directory_path() / "vehs_diagnose_app";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // data with dry friction; version 1 misses it, version 2 has it
+  DataSpec s;
+  s.records = 32;
+  s.samples = 6000;
+  s.seed = 77;
+  auto truth = bistable();
+  truth.drift.push_back({vehs::Term::sign_y(), -0.1});
+  vehs::canonicalize(truth.drift, "truth");
+  const auto d = simulate(truth, s);
+  vehs::write_measurements((dir / "data.npy").string(), d, {false, false, 17});
+  vehs::write_json_atomically((dir / "v1.json").string(), vehs::model_to_json(fit(d, {"x", "x^3", "y"}, {"1", "x^2"})));
+  vehs::write_json_atomically((dir / "v2.json").string(),
+                              vehs::model_to_json(fit(d, {"x", "x^3", "y", "sign(y)"}, {"1", "x^2"})));
+  const std::string cfg = (dir / "diagnose.json").string();
+  write_text(cfg, R"({"model": ")" + (dir / "v1.json").string() + R"(", "data": [")" + (dir / "data.npy").string() +
+                      R"("], "output": ")" + (dir / "out1.json").string() + R"(", "report": ")" +
+                      (dir / "report").string() + R"(", "replicates": 2, "parameter_draws": 4, "fpk_cells": 60})");
+  REQUIRE(run({cfg, "--quiet"}) == 0);
+  REQUIRE(run({cfg, "--quiet", "--set", "model=\"" + (dir / "v2.json").string() + "\"", "--set",
+               "output=\"" + (dir / "out2.json").string() + "\"", "--set", "label=\"with friction\""}) == 0);
+
+  const auto j1 = read_json((dir / "out1.json").string()), j2 = read_json((dir / "out2.json").string());
+  for (const auto& j : {j1, j2}) {
+    REQUIRE(j.contains("verdict"));
+    CHECK((j["verdict"] == "adequate" || j["verdict"] == "inadequate"));
+    CHECK(j["score"].is_number());
+    for (const char* c : {"one_step", "pdf", "power", "acf"}) CHECK(j["components"].contains(c));
+    REQUIRE(j["suspects"].is_array());
+    for (const auto& sp : j["suspects"]) {
+      CHECK(sp["effect"].is_string());
+      CHECK(sp["evidence"].is_number());
+      CHECK(sp["params"].is_object());
+      CHECK(sp["add"]["effects"][0]["name"] == sp["effect"]);
+    }
+  }
+  CHECK(j1["verdict"] == "inadequate");
+  CHECK(j1["suspects"][0]["effect"] == "coulomb_friction");
+  CHECK(j2["verdict"] == "adequate");
+  CHECK(j2["score"].get<double>() < j1["score"].get<double>());
+  // coulomb_friction is in version 2: not a suspect any more
+  for (const auto& sp : j2["suspects"]) CHECK(sp["effect"] != "coulomb_friction");
+
+  // history: two versions of the same data, plotted in the report
+  const auto entries = vehs::tools::read_history((dir / "report" / "history.json").string());
+  REQUIRE(entries.size() == 2);
+  CHECK(entries[0]["version"] == 1);
+  CHECK(entries[1]["version"] == 2);
+  CHECK(entries[1]["label"] == "with friction");
+  CHECK(entries[1]["score"].get<double>() < entries[0]["score"].get<double>());
+  std::ifstream hcsv((dir / "report" / "history.csv").string());
+  std::string line;
+  int lines = 0;
+  while (std::getline(hcsv, line)) ++lines;
+  CHECK(lines == 3);
+
+  // the page: every figure beside its CSV and script, all loaded by a real browser
+  const std::string html = (dir / "report" / "index.html").string();
+  REQUIRE(fs::exists(html));
+  int figures = 0;
+  for (const auto& e : fs::directory_iterator(dir / "report"))
+    if (e.path().extension() == ".svg") {
+      ++figures;
+      CHECK(fs::exists(fs::path(e.path()).replace_extension(".gp")));
+    }
+  CHECK(figures >= 12);
+  CHECK(fs::exists(dir / "report" / "summary.json"));
+  CHECK(chromium_figure_status(html) == "figures-loaded: " + std::to_string(figures) + "/" + std::to_string(figures));
+}
+
+TEST_CASE("diagnose-vehs rejects bad inputs with exit status 1 and writes nothing", "[diagnose][app][errors]") {
+  const fs::path dir = fs::temp_directory_path() / "vehs_diagnose_app_bad";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  DataSpec s;
+  s.records = 2;
+  s.samples = 3000;
+  const auto d = simulate(bistable(), s);
+  vehs::write_measurements((dir / "data.csv").string(), d, {false, false, 17});
+  vehs::write_json_atomically((dir / "model.json").string(), vehs::model_to_json(bistable()));
+  const std::string base = R"("data": [")" + (dir / "data.csv").string() + R"("], "output": ")" +
+                           (dir / "out.json").string() + R"(", "report": ")" + (dir / "report").string() + "\"";
+  auto cfg = [&](const std::string& name, const std::string& body) {
+    const std::string p = (dir / name).string();
+    write_text(p, "{" + body + "}");
+    return p;
+  };
+  // missing model file, unknown key, wrong dt, model identified at another dt, bad history file
+  CHECK(run({cfg("a.json", R"("model": ")" + (dir / "nope.json").string() + "\", " + base), "--quiet"}) == 1);
+  CHECK(run({cfg("b.json", R"("model": ")" + (dir / "model.json").string() + "\", \"bogus\": 1, " + base), "--quiet"}) == 1);
+  CHECK(run({cfg("c.json", R"("model": ")" + (dir / "model.json").string() + "\", \"dt\": 0.001, " + base), "--quiet"}) == 1);
+  auto stated = vehs::model_to_json(bistable());
+  stated["sampling"] = {{"dt", 0.05}};
+  vehs::write_json_atomically((dir / "stated.json").string(), stated);
+  CHECK(run({cfg("d.json", R"("model": ")" + (dir / "stated.json").string() + "\", " + base), "--quiet"}) == 1);
+  fs::create_directories(dir / "report");
+  write_text((dir / "report" / "history.json").string(), "not json");
+  CHECK(run({cfg("e.json", R"("model": ")" + (dir / "model.json").string() + "\", \"suspects\": false, " + base), "--quiet"}) == 1);
+  CHECK_FALSE(fs::exists(dir / "out.json"));
+}
