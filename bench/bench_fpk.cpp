@@ -13,6 +13,7 @@
 
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/io/model_file.hpp"
 #include "vehs/fpk/stationary.hpp"
 
 using namespace vehs;

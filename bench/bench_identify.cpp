@@ -20,6 +20,7 @@
 
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/io/model_file.hpp"
 #include "vehs/identify/identify.hpp"
 #include "vehs/io/measurements.hpp"
 #include "vehs/sim/simulate.hpp"
@@ -94,9 +95,12 @@ int run(const std::string& file, int threads) {
   std::printf("    CPU time: read %.3f s, identify %.3f s, total %.3f s (wall times above include waiting "
               "for a core on a loaded machine)\n",
               c1 - c0, c2 - c1, c2 - c0);
+  std::string timings;
+  for (const auto& [stage, seconds] : r.report.fit.timings)
+    timings += (timings.empty() ? "" : ", ") + stage + " " + std::to_string(seconds) + " s";
   std::printf("    estimator %s, %zu drift + %zu diffusion terms, timings %s\n",
-              vehs::enum_to_string(vehs::identify::kEstimatorNames, r.estimator_used).c_str(),
-              r.model.drift.size(), r.model.diffusion.size(), r.model.extra["fit"]["timings"].dump().c_str());
+              vehs::enum_to_string(vehs::kEstimatorNames, r.model.fit->estimator).c_str(), r.model.drift.size(),
+              r.model.diffusion.size(), timings.c_str());
   return 0;
 }
 

@@ -24,6 +24,7 @@
 
 #include "tools/terminal_progress.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/io/model_file.hpp"
 #include "vehs/identify/study.hpp"
 
 int main(int argc, char** argv) {

@@ -22,6 +22,7 @@
 
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/io/model_file.hpp"
 #include "vehs/sim/random.hpp"
 #include "vehs/sim/simulate.hpp"
 

@@ -1,7 +1,6 @@
 #include "vehs/core/model.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <sstream>
 
@@ -115,90 +114,21 @@ bool Model::uses_drive() const {
   return false;
 }
 
-namespace {
-
-double finite_number(const nlohmann::json& v, const std::string& where) {
-  if (!v.is_number()) throw Error(where + " must be a number (got " + v.dump() + ")");
-  const double d = v.get<double>();
-  if (!std::isfinite(d)) throw Error(where + " must be finite");
-  return d;
+std::string unknown_parameter(EffectId id, const std::string& key) {
+  const EffectSpec& spec = effect_spec(id);
+  for (const auto& ps : spec.params)
+    if (ps.name == key) return "";
+  std::string names;
+  for (const auto& ps : spec.params) names += (names.empty() ? "" : ", ") + std::string(ps.name);
+  return ": effect '" + std::string(spec.name) + "' has no parameter '" + key + "' (its parameters: " + names + ")";
 }
 
-TermList terms_from_json(const nlohmann::json& j, const std::string& where) {
-  if (!j.is_object())
-    throw Error(where + " must be an object mapping term names to coefficients");
-  TermList list;
-  for (auto it = j.begin(); it != j.end(); ++it) {
-    Term term;
-    try {
-      term = Term::parse(it.key());
-    } catch (const Error& e) {
-      throw Error(where + ": " + e.what());
-    }
-    list.push_back({term, finite_number(it.value(), where + "[\"" + it.key() + "\"]")});
-  }
-  canonicalize(list, where);
-  return list;
-}
-
-std::map<std::string, double> stderr_from_json(const nlohmann::json& j, const std::string& where) {
-  std::map<std::string, double> m;
-  if (!j.is_object()) throw Error(where + " must be an object");
-  for (auto it = j.begin(); it != j.end(); ++it) {
-    (void)Term::parse(it.key());
-    m[it.key()] = finite_number(it.value(), where + "[\"" + it.key() + "\"]");
-  }
-  return m;
-}
-
-void merge_terms(TermList& into, const TermList& add, const std::string& where) {
-  for (const auto& tc : add) {
-    for (const auto& existing : into)
-      if (existing.term == tc.term)
-        throw Error(where + ": term '" + tc.term.name() +
-                    "' is given both as a term and through an effect");
-    into.push_back(tc);
-  }
-  canonicalize(into, where);
-}
-
-}  // namespace
-
-Effect effect_from_json(const nlohmann::json& j, const std::string& where, bool require_params) {
-  Effect e;
-  nlohmann::json params = nlohmann::json::object();
-  std::string name;
-  if (j.is_string()) {
-    name = j.get<std::string>();
-  } else if (j.is_object()) {
-    for (auto it = j.begin(); it != j.end(); ++it)
-      if (it.key() != "name" && it.key() != "params" && it.key() != "stderr")
-        throw Error(where + ": unknown key '" + it.key() + "' (expected name, params, stderr)");
-    if (!j.contains("name") || !j["name"].is_string())
-      throw Error(where + ": an effect needs a string 'name'");
-    name = j["name"].get<std::string>();
-    if (j.contains("params")) params = j["params"];
-    if (!params.is_object()) throw Error(where + ".params must be an object");
-    if (j.contains("stderr")) {
-      if (!j["stderr"].is_object()) throw Error(where + ".stderr must be an object");
-      for (auto it = j["stderr"].begin(); it != j["stderr"].end(); ++it)
-        e.stderr_[it.key()] = finite_number(it.value(), where + ".stderr." + it.key());
-    }
-  } else {
-    throw Error(where + " must be an effect name or {\"name\": ..., \"params\": {...}}");
-  }
-  e.id = enum_from_string(kEffectNames, name, where + ".name");
+std::string complete_effect(Effect& e, bool require_params) {
   const EffectSpec& spec = effect_spec(e.id);
-  for (auto it = params.begin(); it != params.end(); ++it) {
-    bool known = false;
-    for (const auto& ps : spec.params) known = known || ps.name == it.key();
-    if (!known) {
-      std::string names;
-      for (const auto& ps : spec.params) names += (names.empty() ? "" : ", ") + std::string(ps.name);
-      throw Error(where + ": effect '" + name + "' has no parameter '" + it.key() +
-                  "' (its parameters: " + names + ")");
-    }
-    e.params[it.key()] = finite_number(it.value(), where + ".params." + it.key());
+  const std::string name = e.name();
+  for (const auto& [key, value] : e.params) {
+    if (auto why = unknown_parameter(e.id, key); !why.empty()) return why;
+    if (!std::isfinite(value)) return ".params." + key + " must be finite";
   }
   if (e.id == EffectId::ImpactStop && e.params.count("gap") && !e.params.count("gap_neg"))
     e.params["gap_neg"] = e.params["gap"];
@@ -209,118 +139,38 @@ Effect effect_from_json(const nlohmann::json& j, const std::string& where, bool 
       if (ps.default_value) {
         if (require_params) e.params[key] = *ps.default_value;
       } else if (require_params) {
-        throw Error(where + ": effect '" + name + "' needs parameter '" + key + "' (" +
-                    std::string(ps.meaning) + ")");
+        return ": effect '" + name + "' needs parameter '" + key + "' (" + std::string(ps.meaning) + ")";
       }
       continue;
     }
     const double v = it->second;
     if (v < ps.lower_bound || (ps.strictly_positive && v <= 0.0))
-      throw Error(where + ".params." + key + " must be " +
-                  (ps.strictly_positive ? "> 0" : ">= " + std::to_string(ps.lower_bound)) +
-                  " (got " + std::to_string(v) + ")");
+      return ".params." + key + " must be " +
+             (ps.strictly_positive ? "> 0" : ">= " + std::to_string(ps.lower_bound)) + " (got " +
+             std::to_string(v) + ")";
   }
-  return e;
+  return "";
 }
 
-nlohmann::ordered_json effect_to_json(const Effect& e) {
-  nlohmann::ordered_json j;
-  j["name"] = e.name();
-  j["params"] = nlohmann::ordered_json::object();
-  for (const auto& [k, v] : e.params) j["params"][k] = v;
-  if (!e.stderr_.empty()) {
-    j["stderr"] = nlohmann::ordered_json::object();
-    for (const auto& [k, v] : e.stderr_) j["stderr"][k] = v;
+void add_effect(Model& m, Effect e, const std::string& where) {
+  if (auto why = complete_effect(e, true); !why.empty()) throw Error(where + why);
+  if (!effect_spec(e.id).term_like) {
+    if (m.find_effect(e.id)) throw Error(where + ": effect '" + e.name() + "' given twice");
+    m.effects.push_back(std::move(e));
+    return;
   }
-  return j;
-}
-
-Model model_from_json(const nlohmann::json& j, const std::string& where) {
-  if (!j.is_object()) throw Error(where + ": a model must be a JSON object");
-  Model m;
-  if (!j.contains("drift")) throw Error(where + ": model has no 'drift'");
-  if (!j.contains("diffusion")) throw Error(where + ": model has no 'diffusion'");
-  m.drift = terms_from_json(j["drift"], where + ": drift");
-  m.diffusion = terms_from_json(j["diffusion"], where + ": diffusion");
-  for (const auto& tc : m.diffusion)
-    if (tc.term.depends_on_u() || tc.term.kind == TermKind::SignY)
-      throw Error(where + ": diffusion term '" + tc.term.name() + "' is not allowed");
-  if (j.contains("stderr")) {
-    const auto& s = j["stderr"];
-    if (!s.is_object()) throw Error(where + ": stderr must be an object");
-    if (s.contains("drift")) m.drift_stderr = stderr_from_json(s["drift"], where + ": stderr.drift");
-    if (s.contains("diffusion"))
-      m.diffusion_stderr = stderr_from_json(s["diffusion"], where + ": stderr.diffusion");
-  }
-  if (j.contains("effects")) {
-    const auto& ef = j["effects"];
-    if (!ef.is_array()) throw Error(where + ": effects must be a list");
-    for (std::size_t i = 0; i < ef.size(); ++i) {
-      const std::string w = where + ": effects[" + std::to_string(i) + "]";
-      Effect e = effect_from_json(ef[i], w, true);
-      const EffectSpec& spec = effect_spec(e.id);
-      if (spec.term_like) {
-        EffectTerms t = effect_terms(e);
-        merge_terms(m.drift, t.drift, w);
-        merge_terms(m.diffusion, t.diffusion, w);
-      } else {
-        if (m.find_effect(e.id)) throw Error(w + ": effect '" + e.name() + "' given twice");
-        m.effects.push_back(std::move(e));
-      }
+  const EffectTerms t = effect_terms(e);
+  auto merge = [&](TermList& into, const TermList& add) {
+    for (const auto& tc : add) {
+      for (const auto& existing : into)
+        if (existing.term == tc.term)
+          throw Error(where + ": term '" + tc.term.name() + "' is given both as a term and through an effect");
+      into.push_back(tc);
     }
-  }
-  for (auto it = j.begin(); it != j.end(); ++it)
-    if (it.key() != "drift" && it.key() != "diffusion" && it.key() != "stderr" &&
-        it.key() != "effects")
-      m.extra[it.key()] = it.value();
-  return m;
-}
-
-Model load_model_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open model file");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::parse_error& e) {
-    throw Error(path + ": not valid JSON (" + std::string(e.what()) + ")");
-  }
-  return model_from_json(j, path);
-}
-
-Model model_from_config_value(const nlohmann::json& value, const std::string& where) {
-  if (value.is_string()) return load_model_file(value.get<std::string>());
-  if (value.is_object()) return model_from_json(value, where);
-  throw Error(where + " must be a model object or the path of a model file");
-}
-
-nlohmann::ordered_json model_to_json(const Model& m) {
-  nlohmann::ordered_json j;
-  auto terms = [](const TermList& list) {
-    nlohmann::ordered_json o = nlohmann::ordered_json::object();
-    for (const auto& tc : list)
-      if (tc.coef != 0.0) o[tc.term.name()] = tc.coef;
-    return o;
+    canonicalize(into, where);
   };
-  j["drift"] = terms(m.drift);
-  j["diffusion"] = terms(m.diffusion);
-  if (!m.drift_stderr.empty() || !m.diffusion_stderr.empty()) {
-    nlohmann::ordered_json s;
-    s["drift"] = nlohmann::ordered_json::object();
-    s["diffusion"] = nlohmann::ordered_json::object();
-    // keep the model's term order
-    for (const auto& tc : m.drift)
-      if (auto it = m.drift_stderr.find(tc.term.name()); it != m.drift_stderr.end())
-        s["drift"][it->first] = it->second;
-    for (const auto& tc : m.diffusion)
-      if (auto it = m.diffusion_stderr.find(tc.term.name()); it != m.diffusion_stderr.end())
-        s["diffusion"][it->first] = it->second;
-    j["stderr"] = s;
-  }
-  j["effects"] = nlohmann::ordered_json::array();
-  for (const auto& e : m.effects) j["effects"].push_back(effect_to_json(e));
-  for (auto it = m.extra.begin(); it != m.extra.end(); ++it) j[it.key()] = it.value();
-  return j;
+  merge(m.drift, t.drift);
+  merge(m.diffusion, t.diffusion);
 }
 
 void validate_model(const Model& m, const std::string& where) {

@@ -136,6 +136,13 @@ bool operator==(const Term& a, const Term& b) {
   return a.kind == b.kind && a.px == b.px && a.py == b.py;
 }
 
+std::vector<Term> terms_of(const TermList& terms) {
+  std::vector<Term> t;
+  t.reserve(terms.size());
+  for (const auto& tc : terms) t.push_back(tc.term);
+  return t;
+}
+
 double evaluate(const TermList& terms, double x, double y, double u) {
   double s = 0.0;
   for (const auto& tc : terms) s += tc.coef * tc.term.value(x, y, u);

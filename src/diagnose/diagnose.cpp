@@ -55,10 +55,6 @@ std::string fmt(double v, int digits = 4) {
   return os.str();
 }
 
-std::string record_name(const Record& r) {
-  return (r.source.empty() ? std::string("data") : r.source) + ": record traj=" + std::to_string(r.id);
-}
-
 double quantile(std::vector<double>& v, double q) {
   if (v.empty()) return 0.0;
   const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size() - 1));
@@ -123,83 +119,32 @@ double band_mean(const std::vector<double>& psd, std::size_t a, std::size_t b) {
   return s / static_cast<double>(b - a);
 }
 
-/// Reads a number at extra[key1][key2] when present.
-bool extra_number(const Model& m, const char* k1, const char* k2, double& out) {
-  const auto it = m.extra.find(k1);
-  if (it == m.extra.end() || !it->is_object()) return false;
-  const auto jt = it->find(k2);
-  if (jt == it->end() || !jt->is_number()) return false;
-  out = jt->get<double>();
-  return true;
-}
-std::string extra_string(const Model& m, const char* k1, const char* k2) {
-  const auto it = m.extra.find(k1);
-  if (it == m.extra.end() || !it->is_object()) return "";
-  const auto jt = it->find(k2);
-  if (jt == it->end() || !jt->is_string()) return "";
-  return jt->get<std::string>();
-}
-
-std::vector<Term> terms_of(const TermList& l) {
-  std::vector<Term> t;
-  for (const auto& tc : l) t.push_back(tc.term);
-  return t;
-}
-
-/// Checks the records: finite values, the expected sampling interval.
-void check_records(const Dataset& data, const Model& model, double expected_dt) {
-  require(!data.records.empty(), "no records to diagnose");
-  if (model.uses_drive())
-    require(data.has_u(),
-            "the model has a drive term 'u' but the data have no drive column (name it with "
-            "'columns': {\"u\": ...})");
-  for (const auto& r : data.records) {
-    if (expected_dt > 0.0 && std::abs(r.dt - expected_dt) > 1e-6 * expected_dt)
-      throw Error(record_name(r) + " is sampled at dt = " + fmt(r.dt, 8) +
-                  " but the config says dt = " + fmt(expected_dt, 8) +
-                  " (remove 'dt' to use the files' time column, or give the right interval)");
-    const double* x = data.x_of(r);
-    const double* u = data.u_of(r);
-    for (std::size_t i = 0; i < r.size; ++i)
-      if (!std::isfinite(x[i]) || (u && !std::isfinite(u[i])))
-        throw Error(record_name(r) + ", sample " + std::to_string(i) +
-                    (r.first_line > 0 ? " (line " + std::to_string(r.first_line + i) + ")" : "") + ": " +
-                    (std::isfinite(x[i]) ? "u" : "x") + " is NaN or infinite");
-  }
-}
-
 /// identify's sampling diagnosis on the first samples of every record.
 struct Pilot {
   bool ok = false;
-  std::string verdict, estimator, error;
+  SamplingVerdict verdict = SamplingVerdict::Unknown;
+  Estimator estimator = Estimator::Auto;
+  std::string error;
   int stride = 1;
   double sensor_noise_sd = 0.0;
 };
 Pilot sampling_pilot(const Model& model, const Dataset& data) {
   Pilot p;
-  Dataset sub;
   const std::size_t cap = std::max<std::size_t>(4000, 600000 / data.records.size());
-  for (const auto& r : data.records) {
-    Record nr = r;
-    nr.size = std::min(r.size, cap);
-    nr.offset = sub.x.size();
-    sub.x.insert(sub.x.end(), data.x_of(r), data.x_of(r) + nr.size);
-    if (data.has_u()) sub.u.insert(sub.u.end(), data.u_of(r), data.u_of(r) + nr.size);
-    sub.records.push_back(nr);
-  }
+  const Dataset sub = leading_samples(data, [&](std::size_t, const Record&, std::size_t) { return cap; });
   identify::Options o;
   o.drift_library = terms_of(model.drift);
   o.diffusion_library = terms_of(model.diffusion);
   o.sparsity = identify::Sparsity::None;
   o.folds = 1;
-  o.estimator = identify::Estimator::Auto;
+  o.estimator = Estimator::Auto;
   try {
-    const identify::Result r = identify::identify(sub, o);
+    const FitInfo fit = *identify::identify(sub, o).model.fit;
     p.ok = true;
-    p.verdict = r.sampling.verdict;
-    p.estimator = enum_to_string(identify::kEstimatorNames, r.estimator_used);
-    p.stride = r.stride;
-    p.sensor_noise_sd = r.sampling.sensor_noise_sd;
+    p.verdict = fit.sampling.verdict;
+    p.estimator = fit.estimator;
+    p.stride = fit.stride;
+    p.sensor_noise_sd = fit.sampling.sensor_noise_sd;
   } catch (const std::exception& e) {
     p.error = e.what();
   }
@@ -244,7 +189,7 @@ Pilot model_sampling_pilot(const Model& model, const Dataset& data) {
   const identify::SamplingRule rule = identify::sampling_rule(c[1] / c[0], c[2] / c[0], c[3] / c[0], rows);
   p.ok = true;
   p.verdict = rule.verdict;
-  p.estimator = rule.noisy ? "noisy" : rule.continuous ? "uli" : "forward";
+  p.estimator = rule.noisy ? Estimator::Noisy : rule.continuous ? Estimator::Uli : Estimator::Forward;
   p.stride = 1;
   const double h = L.h();
   p.sensor_noise_sd = rule.noisy ? std::sqrt(rule.noise_share * (c[0] / rows) * h * h * h * h / 6.0) : 0.0;
@@ -325,7 +270,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
   const auto t_start = std::chrono::steady_clock::now();
   auto lap = [&, t = t_start](Result& res, const char* what) mutable {
     const auto now = std::chrono::steady_clock::now();
-    res.timings[what] = std::chrono::duration<double>(now - t).count();
+    res.timings.emplace_back(what, std::chrono::duration<double>(now - t).count());
     t = now;
   };
   if (auto why = opt.invalid_reason(); !why.empty()) throw Error("diagnose: " + why);
@@ -334,7 +279,14 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
           "the model has no diffusion terms: its one-step residuals cannot be whitened and its "
           "twins cannot be simulated (the model file needs a 'diffusion' object)");
   require(!model.drift.empty(), "the model has no drift terms (the model file needs a 'drift' object)");
-  check_records(data, model, opt.expected_dt);
+  require(!data.records.empty(), "no records to diagnose");
+  if (model.uses_drive())
+    require(data.has_u(),
+            "the model has a drive term 'u' but the data have no drive column (name it with "
+            "'columns': {\"u\": ...})");
+  RecordChecks checks;
+  checks.expected_dt = opt.expected_dt;
+  check_records(data, checks);
   const double dt = data.common_dt();
 
   Result res;
@@ -342,13 +294,13 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
   res.samples = data.total_samples();
   SamplingInfo& si = res.sampling;
   si.data_dt = dt;
-  // ---- what the model file says about the data it was fitted to
-  extra_number(model, "sampling", "dt", si.model_dt);
-  si.model_verdict = extra_string(model, "sampling", "verdict");
-  si.model_estimator = extra_string(model, "estimator", "used");
-  double model_stride = 0.0, model_noise = 0.0;
-  extra_number(model, "estimator", "stride", model_stride);
-  extra_number(model, "sampling", "sensor_noise_sd", model_noise);
+  // ---- what the model says about the data it was fitted to
+  const FitInfo fit = model.fit.value_or(FitInfo{});
+  si.model_dt = fit.sampling.dt;
+  si.model_verdict = fit.sampling.verdict;
+  si.model_estimator = fit.estimator;
+  const int model_stride = fit.stride;
+  const double model_noise = fit.sampling.sensor_noise_sd;
   if (opt.check_model_sampling && si.model_dt > 0.0 && std::abs(si.model_dt - dt) > 1e-6 * dt)
     throw Error("the model was identified from data sampled at dt = " + fmt(si.model_dt, 8) +
                 " (its 'sampling.dt') but these data are sampled at dt = " + fmt(dt, 8) +
@@ -357,14 +309,16 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
 
   // ---- the data's own sampling diagnosis (identify's pilot, model terms as the library)
   const Pilot pilot = model.has_dynamic_effects() ? model_sampling_pilot(model, data) : sampling_pilot(model, data);
-  si.data_verdict = pilot.ok ? pilot.verdict : "";
+  si.data_verdict = pilot.ok ? pilot.verdict : SamplingVerdict::Unknown;
+  const SamplingVerdict assumed =
+      si.model_verdict == SamplingVerdict::Unknown ? SamplingVerdict::ContinuousTime : si.model_verdict;
   if (!pilot.ok)
-    res.warnings.push_back("the sampling diagnosis of the data failed (" + pilot.error +
-                           "); assuming " + (si.model_verdict.empty() ? "continuous-time" : si.model_verdict) + " data");
-  if (pilot.ok && !si.model_verdict.empty() && si.model_verdict != pilot.verdict)
-    res.warnings.push_back("the model file says its data were '" + si.model_verdict +
-                           "' but these data look '" + pilot.verdict + "'");
-  const std::string verdict = pilot.ok ? pilot.verdict : (si.model_verdict.empty() ? "continuous-time" : si.model_verdict);
+    res.warnings.push_back("the sampling diagnosis of the data failed (" + pilot.error + "); assuming " +
+                           enum_to_string(kSamplingVerdictNames, assumed) + " data");
+  if (pilot.ok && si.model_verdict != SamplingVerdict::Unknown && si.model_verdict != pilot.verdict)
+    res.warnings.push_back("the model file says its data were '" + enum_to_string(kSamplingVerdictNames, si.model_verdict) +
+                           "' but these data look '" + enum_to_string(kSamplingVerdictNames, pilot.verdict) + "'");
+  const SamplingVerdict verdict = pilot.ok ? pilot.verdict : assumed;
   lap(res, "sampling_pilot");
 
   // ---- the lens
@@ -376,12 +330,12 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
     if (opt.lens == LensChoice::Forward) {
       forward = true;
     } else if (opt.lens == LensChoice::Central) {
-      stride = model_stride >= 1 ? static_cast<int>(model_stride) : (pilot.ok ? pilot.stride : 1);
-    } else if (!si.model_estimator.empty()) {
-      forward = si.model_estimator == "forward" || si.model_estimator == "paper";
-      stride = model_stride >= 1 ? static_cast<int>(model_stride) : 1;
+      stride = model_stride >= 1 ? model_stride : (pilot.ok ? pilot.stride : 1);
+    } else if (si.model_estimator != Estimator::Auto) {
+      forward = !uses_central_kinematics(si.model_estimator);
+      stride = model_stride >= 1 ? model_stride : 1;
     } else if (pilot.ok) {
-      forward = pilot.estimator == "forward" || pilot.estimator == "paper";
+      forward = !uses_central_kinematics(pilot.estimator);
       stride = pilot.stride;
     }
     if (opt.stride > 0) stride = opt.stride;
@@ -391,7 +345,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
       lens.sensor_noise_sd = opt.sensor_noise;
     else if (model_noise > 0.0)
       lens.sensor_noise_sd = model_noise;
-    else if (pilot.ok && pilot.verdict == "noisy")
+    else if (pilot.ok && pilot.verdict == SamplingVerdict::Noisy)
       lens.sensor_noise_sd = pilot.sensor_noise_sd;
   }
   if (auto why = lens.invalid_reason(); !why.empty()) throw Error("diagnose: lens: " + why);
@@ -577,13 +531,13 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
 
   detail::TwinSettings ts;
   {
-    const bool consistent = verdict == "scheme-consistent";
+    const bool consistent = verdict == SamplingVerdict::SchemeConsistent;
     ts.scheme = opt.twin_scheme_auto ? (consistent ? sim::Scheme::Rk4Euler : sim::Scheme::Taylor15) : opt.twin_scheme;
     ts.substeps = opt.twin_substeps > 0 ? opt.twin_substeps : (consistent ? 1 : 10);
     ts.sensor_noise = lens.sensor_noise_sd;
     ts.seed = opt.seed;
     ts.smoothing = lens.sensor_noise_sd > 0.0 ? std::max(2, lens.stride) : 1;
-    si.twin_scheme = enum_to_string(sim::kSchemeNames, ts.scheme);
+    si.twin_scheme = ts.scheme;
     si.twin_substeps = ts.substeps;
   }
   detail::TwinSimulator twins(model, data, ts);
@@ -611,7 +565,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
     }
   }
   prog.finish();
-  res.timings["twin_simulation"] = sim_seconds;
+  res.timings.emplace_back("twin_simulation", sim_seconds);
   lap(res, "twin_statistics");
 
   double invalid = 0.0;
@@ -844,36 +798,15 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
                      (opt.parameter_uncertainty == ParameterUncertainty::Auto && fitted);
     if (use) {
       // pseudo-data: twins of the first records, at most parameter_fit_samples samples
-      Dataset sub;
-      for (const auto& r : data.records) {
-        if (sub.x.size() >= static_cast<std::size_t>(opt.parameter_fit_samples)) break;
-        Record nr = r;
-        nr.size = std::min(r.size, static_cast<std::size_t>(opt.parameter_fit_samples) - sub.x.size());
-        if (nr.size < 64) break;
-        nr.offset = sub.x.size();
-        sub.x.insert(sub.x.end(), data.x_of(r), data.x_of(r) + nr.size);
-        if (data.has_u()) sub.u.insert(sub.u.end(), data.u_of(r), data.u_of(r) + nr.size);
-        sub.records.push_back(nr);
-      }
+      const auto limit = static_cast<std::size_t>(opt.parameter_fit_samples);
+      const Dataset sub = leading_samples(data, [&](std::size_t, const Record& r, std::size_t taken) {
+        const std::size_t n = taken < limit ? std::min(r.size, limit - taken) : 0;
+        return n < 64 ? kEndSelection : n;
+      });
       const double scale = static_cast<double>(sub.x.size()) / static_cast<double>(res.samples);
-      identify::Options io;
-      io.drift_library = terms_of(model.drift);
-      io.diffusion_library = terms_of(model.diffusion);
-      io.sparsity = identify::Sparsity::None;
-      io.folds = 1;  // no cross-validation: the support is fixed
-      if (lens.kinematics == Kinematics::Forward) {
-        io.estimator = identify::Estimator::Forward;
-      } else {
-        io.estimator = lens.sensor_noise_sd > 0 ? identify::Estimator::Noisy : identify::Estimator::Uli;
-        io.stride = lens.stride;
-      }
-      // dynamic effects are refitted with all their parameters free (an identify that cannot fit
-      // one throws, and the warning below says the uncertainty is not propagated)
-      for (const auto& e : model.effects) {
-        Effect free;
-        free.id = e.id;
-        io.effects.push_back(free);
-      }
+      // the model's terms and dynamic effects (all params free) as the lens sees them; an identify
+      // that cannot fit an effect throws, and the warning below says the uncertainty is not propagated
+      const identify::Options io = refit_options(model, lens);
       detail::TwinSettings ps = ts;
       ps.seed = ts.seed ^ 0x5EED5EED5EEDull;
       detail::TwinSimulator pseudo_sim(model, sub, ps);
@@ -1191,16 +1124,11 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
     if (opt.suspect_samples > 0.0 && static_cast<double>(data.total_samples()) > opt.suspect_samples) {
       // whole records, in order, up to suspect_samples samples (at least min_blocks records)
       limited = true;
-      for (const auto& r : data.records) {
-        if (static_cast<double>(sub.x.size() + r.size) > opt.suspect_samples &&
-            sub.records.size() >= static_cast<std::size_t>(opt.suspects.min_blocks))
-          break;
-        Record nr = r;
-        nr.offset = sub.x.size();
-        sub.x.insert(sub.x.end(), data.x_of(r), data.x_of(r) + r.size);
-        if (data.has_u()) sub.u.insert(sub.u.end(), data.u_of(r), data.u_of(r) + r.size);
-        sub.records.push_back(nr);
-      }
+      sub = leading_samples(data, [&](std::size_t i, const Record& r, std::size_t taken) {
+        const bool full = static_cast<double>(taken + r.size) > opt.suspect_samples &&
+                          i >= static_cast<std::size_t>(opt.suspects.min_blocks);
+        return full ? kEndSelection : r.size;
+      });
       res.suspects = rank_suspects(model, sub, lens, suspect_options);
       res.suspects.note += (res.suspects.note.empty() ? "" : " ") + std::string("suspects fitted on the first ") +
                            std::to_string(sub.records.size()) + " of " + std::to_string(data.records.size()) +
@@ -1262,7 +1190,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
   }
   // a suspect is only claimed when the model is found inadequate
   for (auto& sp : res.suspects.ranked) sp.significant = sp.held_out_significant && bad;
-  res.timings["total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  res.timings.emplace_back("total", std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
   return res;
 }
 

@@ -36,27 +36,10 @@ std::string SuspectOptions::invalid_reason() const {
 
 namespace {
 
-std::vector<Term> terms_of(const TermList& l) {
-  std::vector<Term> t;
-  for (const auto& tc : l) t.push_back(tc.term);
-  return t;
-}
-
 Dataset training_part(const Dataset& d, double holdout) {
-  Dataset t;
-  for (const auto& r : d.records) {
-    Record nr = r;
-    nr.size = static_cast<std::size_t>(std::floor((1.0 - holdout) * static_cast<double>(r.size)));
-    nr.offset = t.x.size();
-    const double* x = d.x_of(r);
-    t.x.insert(t.x.end(), x, x + nr.size);
-    if (d.has_u()) {
-      const double* u = d.u_of(r);
-      t.u.insert(t.u.end(), u, u + nr.size);
-    }
-    t.records.push_back(nr);
-  }
-  return t;
+  return leading_samples(d, [holdout](std::size_t, const Record& r, std::size_t) {
+    return static_cast<std::size_t>(std::floor((1.0 - holdout) * static_cast<double>(r.size)));
+  });
 }
 
 struct Fitted {
@@ -107,9 +90,9 @@ identify::Options refit_options(const Model& model, const Lens& lens) {
   }
   io.folds = 1;  // no cross-validation: the support is fixed
   if (lens.kinematics == Kinematics::Forward) {
-    io.estimator = identify::Estimator::Forward;
+    io.estimator = Estimator::Forward;
   } else {
-    io.estimator = lens.sensor_noise_sd > 0.0 ? identify::Estimator::Noisy : identify::Estimator::Uli;
+    io.estimator = lens.sensor_noise_sd > 0.0 ? Estimator::Noisy : Estimator::Uli;
     io.stride = lens.stride;
   }
   return io;
@@ -164,7 +147,7 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
     f.name = "baseline";
     f.model = base.model;
     fits.push_back(std::move(f));
-    if (io.estimator == identify::Estimator::Noisy) sensor_sd = base.sampling.sensor_noise_sd;
+    if (io.estimator == Estimator::Noisy) sensor_sd = base.model.fit->sampling.sensor_noise_sd;
   } catch (const std::exception& e) {
     rep.note = std::string("the baseline refit on the training part failed: ") + e.what();
     return rep;
@@ -357,12 +340,11 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
     } else {
       const auto ep = identify::effect_parameters(f.model, {f.effect});
       if (!ep.empty()) {
-        sp.params = ep[0]["params"];
-        sp.params_stderr = ep[0]["stderr"];
+        sp.params = ep[0].params;
+        sp.params_stderr = ep[0].stderr_;
       }
     }
     sp.block_gain = gain;
-    sp.add = {{"effects", nlohmann::ordered_json::array({{{"name", f.name}}})}};
     sp.terms = f.added;
     rep.ranked.push_back(std::move(sp));
   }

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "vehs/core/model.hpp"
-#include "vehs/io/measurements.hpp"
+#include "vehs/core/dataset.hpp"
 #include "vehs/sim/simulate.hpp"
 
 namespace vehs::diagnose::detail {

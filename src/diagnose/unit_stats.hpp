@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "vehs/diagnose/lens.hpp"
-#include "vehs/io/measurements.hpp"
+#include "vehs/core/dataset.hpp"
 
 namespace vehs::diagnose::detail {
 

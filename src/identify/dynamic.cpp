@@ -18,18 +18,6 @@ namespace vehs::identify {
 
 namespace {
 
-/// Appends fitted dynamic effects (params with stderr) to the model file's "effect_params" list.
-void append_effect_params(Model& model, const std::vector<Effect>& fitted) {
-  nlohmann::ordered_json& ep = model.extra["effect_params"];
-  if (!ep.is_array()) ep = nlohmann::ordered_json::array();
-  for (const auto& e : fitted) {
-    nlohmann::ordered_json j = effect_to_json(e);
-    if (!j.contains("stderr")) j["stderr"] = nlohmann::ordered_json::object();
-    ep.push_back(std::move(j));
-  }
-}
-
-
 using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
@@ -562,7 +550,7 @@ struct Search {
 };
 
 /// Candidate frequencies (rad/time) of the largest lines of the residual spectrum.
-std::vector<double> spectral_lines(const Problem& P, int how_many, nlohmann::ordered_json& info) {
+std::vector<double> spectral_lines(const Problem& P, int how_many, ComponentSearch& info) {
   std::size_t nmin = std::numeric_limits<std::size_t>::max();
   for (std::size_t r = 0; r < P.data.records.size(); ++r) {
     const std::size_t n = P.data.records[r].size;
@@ -593,14 +581,12 @@ std::vector<double> spectral_lines(const Problem& P, int how_many, nlohmann::ord
     if (med > 0) peaks.emplace_back(S[i] / med, i);
   }
   std::sort(peaks.begin(), peaks.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-  nlohmann::ordered_json lines = nlohmann::ordered_json::array();
+  info.spectral_lines.clear();
   for (int j = 0; j < how_many && j < static_cast<int>(peaks.size()); ++j) {
     out.push_back(2.0 * kPi * f[peaks[static_cast<std::size_t>(j)].second]);
-    lines.push_back({{"frequency", f[peaks[static_cast<std::size_t>(j)].second]},
-                     {"peak_to_background", peaks[static_cast<std::size_t>(j)].first}});
+    info.spectral_lines.push_back({f[peaks[static_cast<std::size_t>(j)].second], peaks[static_cast<std::size_t>(j)].first});
   }
-  info["spectrum_segment"] = seg;
-  info["spectral_lines"] = lines;
+  info.spectrum_segment = seg;
   return out;
 }
 
@@ -623,7 +609,7 @@ double longest_record(const Dataset& d) {
 /// Joint Newton steps on the profile contrast over all free entries (finite-difference gradient
 /// and Hessian, in log λ for the time constant): coordinate-wise search converges slowly when
 /// entries are coupled (both gaps share k_stop).
-void newton_polish(Problem& P, const std::vector<std::pair<int, int>>& free_th, nlohmann::ordered_json& info) {
+int newton_polish(Problem& P, const std::vector<std::pair<int, int>>& free_th) {
   const int n = static_cast<int>(free_th.size());
   auto is_log = [&](int j) {
     return P.comps[static_cast<std::size_t>(free_th[static_cast<std::size_t>(j)].first)].id ==
@@ -698,12 +684,14 @@ void newton_polish(Problem& P, const std::vector<std::pair<int, int>>& free_th, 
     const auto [ci, sl] = free_th[static_cast<std::size_t>(j)];
     P.comps[static_cast<std::size_t>(ci)].theta[static_cast<std::size_t>(sl)] = is_log(j) ? std::exp(z[j]) : z[j];
   }
-  info["newton_iterations"] = it;
+  return it;
 }
 
 /// Finds the free nonlinear parameters (grid, then golden-section refinement).
 /// warm: the components carry the previous round's θ — skip the grids, refine locally.
-void search_theta(Problem& P, nlohmann::ordered_json& info, bool warm) {
+void search_theta(Problem& P, ProfileFitReport& info, bool warm) {
+  info.search.clear();
+  info.newton_iterations = -1;
   const auto free_th = P.free_theta();
   if (free_th.empty()) return;
   // initial values and brackets per free entry
@@ -735,7 +723,8 @@ void search_theta(Problem& P, nlohmann::ordered_json& info, bool warm) {
   }
   for (std::size_t i = 0; i < (warm ? 0 : P.comps.size()); ++i) {
     Component& c = P.comps[i];
-    nlohmann::ordered_json ci;
+    ComponentSearch ci;
+    ci.effect = c.id;
     // the grid of component i runs with the components initialised so far (later ones still
     // have placeholder parameters, e.g. ω = 0 makes the sin column vanish)
     Problem Q = P;
@@ -758,7 +747,7 @@ void search_theta(Problem& P, nlohmann::ordered_json& info, bool warm) {
       }
       if (c.theta_free[0]) c.theta[0] = gp[jb];
       if (c.theta_free[1]) c.theta[1] = gn[jb];
-      ci["grid_quantile"] = qs[jb];
+      ci.grid_quantile = qs[jb];
     } else if (c.id == EffectId::ElectromechanicalCoupling && c.theta_free[0]) {
       const double lo = 1.0 / longest_record(P.data), hi = 0.2 / P.h;
       double best = kInf;
@@ -769,7 +758,7 @@ void search_theta(Problem& P, nlohmann::ordered_json& info, bool warm) {
         const double v = contrast_at(Q, th);
         if (v < best) best = v, c.theta[0] = lam;
       }
-      ci["grid"] = {lo, hi, 24};
+      ci.lambda_grid = std::array<double, 3>{lo, hi, 24.0};
     } else if (c.id == EffectId::HarmonicForcing && c.theta_free[0]) {
       const auto lines = spectral_lines(P, 3, ci);
       require(!lines.empty(), "harmonic_forcing: the residual spectrum has no line to start from");
@@ -777,7 +766,7 @@ void search_theta(Problem& P, nlohmann::ordered_json& info, bool warm) {
       double best = kInf;
       for (double w0 : lines) {
         // scan ±1.5 Welch bins at a quarter of the coherent resolution 2π/T
-        const double seg_res = 2.0 * kPi / (static_cast<double>(ci["spectrum_segment"].get<std::size_t>()) * P.dt);
+        const double seg_res = 2.0 * kPi / (static_cast<double>(ci.spectrum_segment) * P.dt);
         const double step = std::max(2.0 * kPi / (4.0 * T), 3.0 * seg_res / 400.0);
         for (double w = w0 - 1.5 * seg_res; w <= w0 + 1.5 * seg_res; w += step) {
           if (w <= 0) continue;
@@ -787,9 +776,9 @@ void search_theta(Problem& P, nlohmann::ordered_json& info, bool warm) {
           if (v < best) best = v, c.theta[0] = w;
         }
       }
-      ci["scan_step"] = std::max(2.0 * kPi / (4.0 * T), 0.0);
+      ci.scan_step = std::max(2.0 * kPi / (4.0 * T), 0.0);
     }
-    info[c.given.name()] = ci;
+    info.search.push_back(std::move(ci));
   }
 
   // refinement per free entry: a scan of the bracket (the profile is rough on the scale of the
@@ -837,7 +826,7 @@ void search_theta(Problem& P, nlohmann::ordered_json& info, bool warm) {
       if (f(z) < fbest) zbest = z;
       c.theta[static_cast<std::size_t>(s)] = logs ? std::exp(zbest) : zbest;
     }
-  if (free_th.size() > 1) newton_polish(P, free_th, info);
+  if (free_th.size() > 1) info.newton_iterations = newton_polish(P, free_th);
 }
 
 struct FitOut {
@@ -1002,12 +991,6 @@ std::vector<Effect> effects_of(const Problem& P, const FitOut& f) {
   return out;
 }
 
-std::vector<Term> terms_of(const TermList& l) {
-  std::vector<Term> t;
-  for (const auto& tc : l) t.push_back(tc.term);
-  return t;
-}
-
 }  // namespace
 
 bool is_dynamic(EffectId id) { return !effect_spec(id).term_like; }
@@ -1081,7 +1064,7 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
   for (const auto& e : dyn) comps.push_back(make_component(e));
 
   Result cur = identify(data, base);
-  nlohmann::ordered_json info;
+  ProfileFitReport info;
   std::vector<Effect> fitted;
   FitOut fit;
   std::vector<double> force(data.x.size(), 0.0);
@@ -1100,8 +1083,9 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
   }
   for (int round = 0; round < 3; ++round) {
     Problem P(data);
-    P.central = cur.estimator_used == Estimator::Uli || cur.estimator_used == Estimator::Noisy;
-    P.k = P.central ? cur.stride : 1;
+    const FitInfo& cur_fit = *cur.model.fit;
+    P.central = uses_central_kinematics(cur_fit.estimator);
+    P.k = P.central ? cur_fit.stride : 1;
     P.dt = data.common_dt();
     P.h = P.central ? P.k * P.dt : P.dt;
     P.lead = P.central ? static_cast<std::size_t>(P.k) : 0;
@@ -1123,27 +1107,13 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
       P.phi.set_sign_kernel_halfwidth(std::max(0.05 * std::sqrt(v2 / std::max(nv, 1.0)), 1e-300));
     }
     P.comps = comps;
-    nlohmann::ordered_json search;
     P.base = std::make_shared<const BaseMoments>(base_moments(P));
     P.c_base = P.base->G.ldlt().solve(P.base->b);  // baseline drift without the dynamic effects
-    search_theta(P, search, round > 0);
+    search_theta(P, info, round > 0);
     comps = P.comps;  // warm start of the next round
-      fit = finish_fit(P);
+    fit = finish_fit(P);
     fitted = effects_of(P, fit);
-    info["search"] = search;
-    {
-      nlohmann::ordered_json rd;
-      rd["estimator"] = enum_to_string(kEstimatorNames, cur.estimator_used);
-      rd["stride"] = P.k;
-      std::string sup;
-      for (const auto& tc : cur.model.drift) sup += (sup.empty() ? "" : ", ") + tc.term.name();
-      rd["drift_terms"] = sup;
-      nlohmann::ordered_json eff = nlohmann::ordered_json::array();
-      for (const auto& e : fitted) eff.push_back(effect_to_json(e));
-      rd["effects"] = eff;
-      rd["profile_contrast"] = fit.contrast;
-      info["round_" + std::to_string(round + 1)] = rd;
-    }
+    info.rounds.push_back({cur_fit.estimator, P.k, terms_of(cur.model.drift), fitted, fit.contrast});
     for (const auto& rec : data.records) {
       std::vector<double> f;
       dynamic_force(fitted, data, rec, f, P.central ? P.k : 0);
@@ -1152,9 +1122,8 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
     Options o2 = base;
     o2.known_force = &force;
     next = identify(data, o2);
-    info["rounds"] = round + 1;
-    const bool same = terms_of(next.model.drift) == support && next.estimator_used == cur.estimator_used &&
-                      next.stride == cur.stride;
+    const bool same = terms_of(next.model.drift) == support && next.model.fit->estimator == cur_fit.estimator &&
+                      next.model.fit->stride == cur_fit.stride;
     cur = next;
     if (same) break;
   }
@@ -1170,19 +1139,12 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
     const double joint = sd(fit.cov, static_cast<int>(j));
     if (std::isfinite(joint)) it->second = std::max(it->second, joint);
   }
-  nlohmann::ordered_json eff = nlohmann::ordered_json::array();
-  for (const auto& e : fitted) eff.push_back(effect_to_json(e));
-  info["effects"] = eff;
-  info["profile_contrast"] = fit.contrast;
-  info["rows"] = fit.rows;
-  if (!fit.beyond.empty()) info["impact_samples_beyond_gap"] = {{"positive", fit.beyond[0]}, {"negative", fit.beyond[1]}};
-  info["method"] =
-      "profile least squares of the Ito-corrected drift contrast over the nonlinear parameters "
-      "(grid + golden section), linear parameters jointly with the drift terms; sandwich standard "
-      "errors of (terms, linear, nonlinear) with batch means; then identify refits terms and "
-      "diffusion with the fitted dynamic force subtracted from the target";
-  res.model.extra["dynamic_fit"] = info;
-  append_effect_params(res.model, fitted);
+  info.effects = fitted;
+  info.profile_contrast = fit.contrast;
+  info.rows = fit.rows;
+  if (!fit.beyond.empty()) info.samples_beyond_gap = std::array<double, 2>{fit.beyond[0], fit.beyond[1]};
+  res.report.profile = std::move(info);
+  res.report.effect_params.insert(res.report.effect_params.end(), fitted.begin(), fitted.end());
   return res;
 }
 
@@ -1342,10 +1304,10 @@ Result identify_colored(const Dataset& data, const Options& options) {
   // chose otherwise
   if (base.estimator == Estimator::Auto) base.estimator = Estimator::Uli;
   Result cur = identify(data, base);
-  require(cur.estimator_used == Estimator::Uli,
+  require(cur.model.fit->estimator == Estimator::Uli,
           "identify: colored_noise needs the uli estimator (clean, densely sampled displacement); the "
-          "options chose '" + enum_to_string(kEstimatorNames, cur.estimator_used) + "'");
-  const int k = cur.stride;
+          "options chose '" + enum_to_string(kEstimatorNames, cur.model.fit->estimator) + "'");
+  const int k = cur.model.fit->stride;
   const auto K = static_cast<std::size_t>(k);
   const double dt = data.common_dt();
   const double h = k * dt;
@@ -1457,7 +1419,7 @@ Result identify_colored(const Dataset& data, const Options& options) {
   ColoredFitOut fo;
   int L1 = L0;
   MatrixXd S, N;
-  nlohmann::ordered_json info, rounds = nlohmann::ordered_json::array();
+  ColoredFitReport info;
   MatrixXd Jcov;
   for (int round = 0; round < 6; ++round) {
     residuals(c, res);
@@ -1480,7 +1442,7 @@ Result identify_colored(const Dataset& data, const Options& options) {
     const double tau_prev = fo.tau;
     fo = fit_exponential(C, L0, L1, dt, h, given);
     require(fo.ok, "identify: colored_noise: the exponential fit of the residual autocovariance failed");
-    rounds.push_back({{"tau", fo.tau}, {"intensity", fo.intensity}, {"lags", {L0, L1}}});
+    info.rounds.push_back({fo.tau, fo.intensity, L0, L1});
     // drift refit on the prediction errors (GLS): T_i = â_i − η̂(â)_i, Z_i = ζ_i − η̂(ζ)_i, with η̂ the
     // Kalman predictor of the OU state from rows ≤ i − 2k (linear in the filtered series, gains
     // from a22 only), plus the usual Itô correction ½·a22·∂ζ/∂v of the ULI noise
@@ -1594,20 +1556,12 @@ Result identify_colored(const Dataset& data, const Options& options) {
   if (!given.params.count("tau")) fitted.stderr_["tau"] = jack_sd(jt);
   if (!given.params.count("intensity")) fitted.stderr_["intensity"] = jack_sd(ji);
   out.model.effects = {fitted};
-  info["rounds"] = rounds;
-  info["lags_fitted_s"] = {L0 * dt, L1 * dt};
-  info["eta_variance_in_residual"] = var_eta;
-  info["residual_variance"] = St[0] / Nt[0];
-  info["method"] =
-      "colored_noise: tau and intensity from an exponential least-squares fit of the drift-residual "
-      "autocovariance at lags >= 2 strides (tent kernels not overlapping); drift refitted by "
-      "instrumental variables on the quasi-differenced equation (lag ~tau, instruments the "
-      "dictionary two strides before the quasi-difference), iterated; white diffusion from the "
-      "residual second moment minus the tent-averaged OU variance; standard errors: jackknife over "
-      "contiguous batches (tau, intensity; drift held at its estimate), IV sandwich with batch sums "
-      "(drift), batch sandwich (diffusion)";
-  out.model.extra["dynamic_fit"] = info;
-  append_effect_params(out.model, {fitted});
+  info.lag_lo_time = L0 * dt;
+  info.lag_hi_time = L1 * dt;
+  info.eta_variance_in_residual = var_eta;
+  info.residual_variance = St[0] / Nt[0];
+  out.report.colored = std::move(info);
+  out.report.effect_params.push_back(fitted);
   return out;
 }
 

@@ -736,88 +736,6 @@ std::vector<std::string> term_names(const Dictionary& d) {
   return n;
 }
 
-nlohmann::ordered_json num_or_null(double v) {
-  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
-}
-
-nlohmann::ordered_json path_json(const SelectionResult& sel, const Dictionary& d) {
-  nlohmann::ordered_json steps = nlohmann::ordered_json::array();
-  for (std::size_t s = 0; s < sel.path.size(); ++s) {
-    const SupportFit& f = sel.path[s];
-    nlohmann::ordered_json st;
-    st["step"] = s;
-    nlohmann::ordered_json coef = nlohmann::ordered_json::object();
-    for (std::size_t i = 0; i < f.support.size(); ++i)
-      coef[d.name(f.support[i])] = f.coef[static_cast<Index>(i)];
-    st["terms"] = coef;
-    if (s + 1 < sel.path.size()) {
-      nlohmann::ordered_json removed = nlohmann::ordered_json::array();
-      for (int t : f.support)
-        if (std::find(sel.path[s + 1].support.begin(), sel.path[s + 1].support.end(), t) ==
-            sel.path[s + 1].support.end())
-          removed.push_back(d.name(t));
-      st["removed_next"] = removed;
-    }
-    st["bic"] = num_or_null(sel.bic[s]);
-    st["cv_loss"] = num_or_null(sel.cv_loss[s]);
-    st["cv_loss_minus_min"] = num_or_null(sel.cv_diff[s]);
-    st["cv_loss_minus_min_se"] = num_or_null(sel.cv_diff_se[s]);
-    st["condition"] = num_or_null(f.condition);
-    steps.push_back(st);
-  }
-  nlohmann::ordered_json j;
-  j["rule"] = sel.rule;
-  j["chosen_step"] = sel.chosen;
-  j["cv_min_step"] = sel.min_step;
-  j["path"] = steps;
-  return j;
-}
-
-std::string record_where(const Record& r) {
-  std::string s = r.source.empty() ? "data" : r.source;
-  s += ": record traj=" + std::to_string(r.id);
-  if (r.first_line > 0) s += " (from line " + std::to_string(r.first_line) + ")";
-  return s;
-}
-
-/// Checks every record: length, finite values, not constant. Names the record and the row.
-void validate_records(const Dataset& d, bool need_u) {
-  require(!d.records.empty(), "no records to identify from");
-  if (need_u)
-    require(d.has_u(), "the drift library has the term 'u' but the data have no drive column u");
-  std::vector<std::string> problems(d.records.size());
-#pragma omp parallel for schedule(dynamic, 1)
-  for (long ri = 0; ri < static_cast<long>(d.records.size()); ++ri) {
-    const Record& r = d.records[static_cast<std::size_t>(ri)];
-    std::string& p = problems[static_cast<std::size_t>(ri)];
-    if (r.size < kMinRecordSamples) {
-      p = record_where(r) + " has only " + std::to_string(r.size) + " samples (at least " +
-          std::to_string(kMinRecordSamples) + " needed)";
-      continue;
-    }
-    if (!(r.dt > 0.0) || !std::isfinite(r.dt)) {
-      p = record_where(r) + " has no valid sampling interval (dt = " + fmt(r.dt) + ")";
-      continue;
-    }
-    const double* x = d.x_of(r);
-    const double* u = d.u_of(r);
-    double lo = x[0], hi = x[0];
-    for (std::size_t i = 0; i < r.size; ++i) {
-      if (!std::isfinite(x[i]) || (u && !std::isfinite(u[i]))) {
-        p = record_where(r) + ", sample " + std::to_string(i) +
-            (r.first_line > 0 ? " (line " + std::to_string(r.first_line + i) + ")" : "") + ": " +
-            (std::isfinite(x[i]) ? "u" : "x") + " is NaN or infinite";
-        break;
-      }
-      lo = std::min(lo, x[i]);
-      hi = std::max(hi, x[i]);
-    }
-    if (p.empty() && !(hi > lo)) p = record_where(r) + ": x is constant (" + fmt(lo) + ")";
-  }
-  for (const auto& p : problems)
-    if (!p.empty()) throw Error(p);
-}
-
 std::vector<Term> merged_terms(std::vector<Term> lib, const std::vector<Term>& add) {
   for (const auto& t : add)
     if (std::find(lib.begin(), lib.end(), t) == lib.end()) lib.push_back(t);
@@ -947,7 +865,9 @@ SamplingRule sampling_rule(double rho_k, double rho_2k, double rho_3k, double ro
   r.noisy = r.noise_share > std::max(0.05, 3.0 * se);
   const double eta = r.noisy ? r.noise_share : 0.0;
   r.continuous = (rho_k - rho_3k) + (2.0 / 3.0) * eta > (1.0 - eta) / 8.0;
-  r.verdict = r.noisy ? "noisy" : r.continuous ? "continuous-time" : "scheme-consistent";
+  r.verdict = r.noisy        ? SamplingVerdict::Noisy
+              : r.continuous ? SamplingVerdict::ContinuousTime
+                             : SamplingVerdict::SchemeConsistent;
   return r;
 }
 
@@ -977,14 +897,12 @@ std::string Options::invalid_reason() const {
   return "";
 }
 
-nlohmann::ordered_json effect_parameters(const Model& model, const std::vector<Effect>& effects) {
-  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+std::vector<Effect> effect_parameters(const Model& model, const std::vector<Effect>& effects) {
+  std::vector<Effect> out;
   for (const auto& e : effects) {
-    const EffectSpec& spec = effect_spec(e.id);
-    nlohmann::ordered_json j;
-    j["name"] = e.name();
-    nlohmann::ordered_json params = nlohmann::ordered_json::object(), se = nlohmann::ordered_json::object();
-    for (const auto& ps : spec.params) {
+    Effect fitted;
+    fitted.id = e.id;
+    for (const auto& ps : effect_spec(e.id).params) {
       Effect unit;
       unit.id = e.id;
       unit.params[std::string(ps.name)] = 1.0;
@@ -993,15 +911,12 @@ nlohmann::ordered_json effect_parameters(const Model& model, const std::vector<E
       if (list.size() != 1) continue;
       const bool diffusion = t.drift.empty();
       const double per_unit = list[0].coef;  // term coefficient per unit of the parameter
-      const std::string name = list[0].term.name();
       const double coef = coefficient(diffusion ? model.diffusion : model.drift, list[0].term);
-      params[std::string(ps.name)] = coef / per_unit;
+      fitted.params[std::string(ps.name)] = coef / per_unit;
       const auto& semap = diffusion ? model.diffusion_stderr : model.drift_stderr;
-      if (auto it = semap.find(name); it != semap.end()) se[std::string(ps.name)] = it->second;
+      if (auto it = semap.find(list[0].term.name()); it != semap.end()) fitted.stderr_[std::string(ps.name)] = it->second;
     }
-    j["params"] = params;
-    j["stderr"] = se;
-    out.push_back(j);
+    out.push_back(std::move(fitted));
   }
   return out;
 }
@@ -1043,13 +958,21 @@ Result identify_terms(const Dataset& data, const Options& options) {
   const std::vector<bool> keep_phi = keep_mask(phi, keep_d), keep_psi = keep_mask(psi, keep_q);
   const auto phi_names = term_names(phi), psi_names = term_names(psi);
 
-  nlohmann::ordered_json timings = nlohmann::ordered_json::object();
+  Result res;
+  FitInfo& fit = res.model.fit.emplace();
+  Report& rep = res.report;
   auto lap = [&, t = std::chrono::steady_clock::now()](const char* what) mutable {
     const auto now = std::chrono::steady_clock::now();
-    timings[what] = std::chrono::duration<double>(now - t).count();
+    rep.fit.timings.emplace_back(what, std::chrono::duration<double>(now - t).count());
     t = now;
   };
-  validate_records(data, phi.uses_u());
+  require(!data.records.empty(), "no records to identify from");
+  if (phi.uses_u())
+    require(data.has_u(), "the drift library has the term 'u' but the data have no drive column u");
+  RecordChecks checks;
+  checks.min_samples = kMinRecordSamples;
+  checks.varying_x = true;
+  check_records(data, checks);
   lap("validate");
   const double dt = data.common_dt();
   std::size_t min_size = data.records.front().size;
@@ -1058,8 +981,7 @@ Result identify_terms(const Dataset& data, const Options& options) {
     return min_size < 4 * static_cast<std::size_t>(kk) + kMinRecordSamples;
   };
 
-  Result res;
-  res.sampling.dt = dt;
+  fit.sampling.dt = dt;
 
   // ---- pilot at ULI stride 1 (or the requested stride): how were the data sampled?
   int k = options.stride > 0 ? options.stride : 1;
@@ -1076,7 +998,7 @@ Result identify_terms(const Dataset& data, const Options& options) {
     const SamplingRule rule = sampling_rule(diag.rho_k, diag.rho_2k, diag.rho_3k, diag.rows);
     const double eta = rule.noise_share;
     const bool continuous = rule.continuous;
-    res.sampling.verdict = rule.verdict;
+    fit.sampling.verdict = rule.verdict;
     if (est == Estimator::Auto) {
       if (rule.noisy) {
         est = Estimator::Noisy;
@@ -1125,13 +1047,14 @@ Result identify_terms(const Dataset& data, const Options& options) {
   finish_pilot(pilot, data, phi, psi, kin, known);
   lap("pilot");
   phi.set_sign_kernel_halfwidth(std::max(0.05 * pilot.v_sd, 1e-300));
-  res.estimator_used = est;
-  res.stride = k;
-  res.sampling.stride = diag.k;
-  res.sampling.rho_k = diag.rho_k;
-  res.sampling.rho_2k = diag.rho_2k;
-  res.sampling.rho_3k = diag.rho_3k;
-  res.sampling.noise_share = diag.noise_share;
+  fit.estimator = est;
+  fit.stride = k;
+  fit.sampling.stride = diag.k;
+  fit.sampling.rho_1 = diag.rho_1;
+  fit.sampling.rho_k = diag.rho_k;
+  fit.sampling.rho_2k = diag.rho_2k;
+  fit.sampling.rho_3k = diag.rho_3k;
+  fit.sampling.noise_share = diag.noise_share;
 
   const bool weighted = est != Estimator::Paper;
   const SsrRule rule = options.ssr_rule_set          ? options.ssr_rule
@@ -1150,9 +1073,9 @@ Result identify_terms(const Dataset& data, const Options& options) {
   const auto dstats = drift_pass(cx, central, est == Estimator::Noisy, spans, F, &progress);
   DriftStats dtotal = dstats[0];
   for (int f = 1; f < F; ++f) dtotal.add(dstats[static_cast<std::size_t>(f)]);
-  res.rows = static_cast<std::size_t>(dtotal.n);
+  rep.fit.rows = static_cast<std::size_t>(dtotal.n);
   lap("drift_pass");
-  res.drift_condition = require_well_conditioned(dtotal.Gaug.topLeftCorner(phi.size(), phi.size()),
+  rep.fit.drift_condition_full = require_well_conditioned(dtotal.Gaug.topLeftCorner(phi.size(), phi.size()),
                                                  all_indices(phi.size()), phi_names,
                                                  "the drift dictionary");
   DriftCorrection corr;
@@ -1176,10 +1099,12 @@ Result identify_terms(const Dataset& data, const Options& options) {
     for (std::size_t i = 1; i < v.size(); ++i) t += v[i];
     return t;
   };
-  res.drift_selection = select_sparse(drift_folds(corr), all_indices(phi.size()), keep_phi,
+  rep.drift_selection.dictionary = phi.terms();
+  rep.drift_selection.selection = select_sparse(drift_folds(corr), all_indices(phi.size()), keep_phi,
                                       options.sparsity, rule, options.criterion,
                                       options.stlsq_threshold, pilot.drift_lr);
-  const SupportFit& chosen_drift = res.drift_selection.path[static_cast<std::size_t>(res.drift_selection.chosen)];
+  const SelectionResult& drift_sel = rep.drift_selection.selection;
+  const SupportFit& chosen_drift = drift_sel.path[static_cast<std::size_t>(drift_sel.chosen)];
   const std::vector<int> S = chosen_drift.support;
   VectorXd c = expand(chosen_drift, phi.size());
 
@@ -1203,8 +1128,8 @@ Result identify_terms(const Dataset& data, const Options& options) {
     const std::size_t corr_len = central ? 3 * static_cast<std::size_t>(k) : 2;
     const std::size_t params = std::max<std::size_t>(1, S.size() + static_cast<std::size_t>(psi.size()));
     std::size_t L = options.se_block > 0 ? options.se_block : std::max<std::size_t>(1024, 50 * corr_len);
-    if (options.se_block == 0 && res.rows / L < 30 * params)
-      L = std::max<std::size_t>(10 * corr_len + 10, res.rows / (30 * params));
+    if (options.se_block == 0 && rep.fit.rows / L < 30 * params)
+      L = std::max<std::size_t>(10 * corr_len + 10, rep.fit.rows / (30 * params));
     ds.block_rows = static_cast<int>(std::max<std::size_t>(1, (L + kBlockRows / 2) / kBlockRows) * kBlockRows);
   }
   const auto qstats = diffusion_pass(cx, ds, spans, F, &progress);
@@ -1213,17 +1138,19 @@ Result identify_terms(const Dataset& data, const Options& options) {
   for (int f = 1; f < F; ++f) rtotal.add(qstats[static_cast<std::size_t>(f)].mom);
   if (est == Estimator::Noisy) {
     set_noise(rtotal.autocovariance(ds.lags.size() - 2) - rtotal.autocovariance(ds.lags.size() - 1));
-    res.sampling.sensor_noise_sd = std::sqrt(s2);
+    fit.sampling.sensor_noise_sd = std::sqrt(s2);
   }
   std::vector<QuadraticStats> qfolds;
   for (const auto& s : qstats) qfolds.push_back(s.quadratic());
   const QuadraticStats qtotal = total_of(qfolds);
   const std::vector<int> allq = all_indices(psi.size());
-  res.diffusion_condition = require_well_conditioned(qtotal.G, allq, psi_names, "the diffusion dictionary");
-  res.diffusion_selection = select_sparse(qfolds, allq, keep_psi, options.sparsity, rule,
+  rep.fit.diffusion_condition_full = require_well_conditioned(qtotal.G, allq, psi_names, "the diffusion dictionary");
+  rep.diffusion_selection.dictionary = psi.terms();
+  rep.diffusion_selection.selection = select_sparse(qfolds, allq, keep_psi, options.sparsity, rule,
                                           options.criterion, options.stlsq_threshold,
                                           pilot.diffusion_lr);
-  const SupportFit& chosen_q = res.diffusion_selection.path[static_cast<std::size_t>(res.diffusion_selection.chosen)];
+  const SelectionResult& diffusion_sel = rep.diffusion_selection.selection;
+  const SupportFit& chosen_q = diffusion_sel.path[static_cast<std::size_t>(diffusion_sel.chosen)];
   const std::vector<int> T = chosen_q.support;
   const VectorXd q = expand(chosen_q, psi.size());
 
@@ -1290,64 +1217,25 @@ Result identify_terms(const Dataset& data, const Options& options) {
   canonicalize(m.drift, "identified drift");
   canonicalize(m.diffusion, "identified diffusion");
 
-  nlohmann::ordered_json& x = m.extra;
-  x["estimator"] = {
-      {"requested", enum_to_string(kEstimatorNames, options.estimator)},
-      {"used", enum_to_string(kEstimatorNames, est)},
-      {"reason", reason},
-      {"stride", k},
-      {"kinematics", central ? "central (ULI): v = (x[i+k] - x[i-k])/2h, a = (x[i+k] - 2x[i] + x[i-k])/h^2, h = k dt"
-                             : "forward: y = (x[i+1] - x[i])/dt, b = (y[i+1] - y[i])/dt"},
-      {"ito_correction", corr.ito},
-      {"discretization_correction", h2_correction ? "target a - (h^2/12) x from a pilot drift" : "none"},
-      {"diffusion_target", target == Target::RawKM     ? "raw Kramers-Moyal (y[i+1] - y[i])^2/dt, ordinary least squares"
-                           : target == Target::Forward ? "dt * drift residual^2, weighted least squares"
-                           : target == Target::Uli     ? "(3/2) h * drift residual^2, weighted least squares"
-                                                       : "(12/11) h (r[i]^2 + 1.5 r[i] r[i+k]), weighted least squares"},
-      {"ssr_rule", enum_to_string(kSsrRuleNames, rule)}};
-  nlohmann::ordered_json samp;
-  samp["dt"] = dt;
-  samp["pilot_stride"] = diag.k;
-  samp["rho_lag1"] = diag.rho_1;
-  samp["rho_lag_k"] = diag.rho_k;
-  samp["rho_lag_2k"] = diag.rho_2k;
-  samp["rho_lag_3k"] = diag.rho_3k;
-  samp["noise_share"] = diag.noise_share;
-  samp["verdict"] = res.sampling.verdict;
-  if (est == Estimator::Noisy) samp["sensor_noise_sd"] = std::sqrt(s2);
-  samp["explanation"] =
-      "lag autocorrelations of ULI residuals on a pilot subsample: about 0 at lag k for data from "
-      "an explicit scheme at the recorded step, +1/4 for a sensor sampling a continuous process; "
-      "white sensor noise pushes lag k toward -2/3 and lag 2k toward +1/6 but leaves lag 3k at 0, "
-      "while a smooth unmodelled force raises lags k, 2k and 3k alike (noise share = 6 (rho_2k - rho_3k))";
-  x["sampling"] = samp;
-  nlohmann::ordered_json resid;
-  resid["rows"] = rtotal.n;
-  resid["rms"] = std::sqrt(rtotal.r2 / std::max(rtotal.n, 1.0));
-  nlohmann::ordered_json ac = nlohmann::ordered_json::object();
-  for (std::size_t l = 0; l < ds.lags.size(); ++l)
-    ac["lag" + std::to_string(ds.lags[l])] = rtotal.autocorrelation(l);
-  resid["autocorrelation"] = ac;
-  resid["expected_lag_k"] = num_or_null(target == Target::Uli ? 0.25 : target == Target::Noisy ? kNaN : 0.0);
-  resid["long_run_variance_factor_drift"] = pilot.drift_lr;
-  resid["long_run_variance_factor_diffusion"] = pilot.diffusion_lr;
-  x["residuals"] = resid;
-  x["selection"] = {{"drift", path_json(res.drift_selection, phi)},
-                    {"diffusion", path_json(res.diffusion_selection, psi)},
-                    {"sparsity", enum_to_string(kSparsityNames, options.sparsity)},
-                    {"criterion", enum_to_string(kCriterionNames, options.criterion)},
-                    {"folds", F}};
-  x["fit"] = {{"rows", res.rows},
-              {"drift_condition_full_library", res.drift_condition},
-              {"drift_condition_selected", num_or_null(cfit.condition)},
-              {"diffusion_condition_full_library", res.diffusion_condition},
-              {"stderr_method", "sandwich of the joint drift/diffusion estimating equations; batch means over " +
-                                    std::to_string(static_cast<long long>(batches)) + " batches of about " +
-                                    std::to_string(ds.block_rows) + " rows"}};
-  if (!options.effects.empty()) x["effect_params"] = effect_parameters(m, options.effects);
-  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  x["fit"]["seconds"] = res.seconds;
-  x["fit"]["timings"] = timings;
+  rep.estimator.requested = options.estimator;
+  rep.estimator.reason = reason;
+  rep.estimator.discretization_correction = h2_correction;
+  rep.estimator.ssr_rule = rule;
+  ResidualReport& rr = rep.residuals;
+  rr.rows = rtotal.n;
+  rr.rms = std::sqrt(rtotal.r2 / std::max(rtotal.n, 1.0));
+  for (std::size_t l = 0; l < ds.lags.size(); ++l) rr.autocorrelation.emplace_back(ds.lags[l], rtotal.autocorrelation(l));
+  rr.expected_lag_k = target == Target::Uli ? 0.25 : target == Target::Noisy ? kNaN : 0.0;
+  rr.long_run_factor_drift = pilot.drift_lr;
+  rr.long_run_factor_diffusion = pilot.diffusion_lr;
+  rep.sparsity = options.sparsity;
+  rep.criterion = options.criterion;
+  rep.folds = F;
+  rep.fit.drift_condition_selected = cfit.condition;
+  rep.fit.stderr_batches = batches;
+  rep.fit.stderr_batch_rows = ds.block_rows;
+  if (!options.effects.empty()) rep.effect_params = effect_parameters(m, options.effects);
+  rep.fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   return res;
 }
 

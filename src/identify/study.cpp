@@ -71,7 +71,7 @@ StudyResult run_study(const StudyOptions& o) {
       const auto t2 = std::chrono::steady_clock::now();
       pr.seconds_simulate += std::chrono::duration<double>(t1 - t0).count();
       pr.seconds_identify += std::chrono::duration<double>(t2 - t1).count();
-      pr.estimators_used.push_back(enum_to_string(kEstimatorNames, r.estimator_used));
+      pr.estimators_used.push_back(enum_to_string(kEstimatorNames, r.model.fit->estimator));
       if (term_set(r.model.drift) == truth_drift && term_set(r.model.diffusion) == truth_diff) ++exact;
       const auto learned = physical_parameters(r.model);
       for (std::size_t i = 0; i < np; ++i) {

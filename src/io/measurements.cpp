@@ -514,36 +514,6 @@ void write_npy(std::ostream& os, const Dataset& d, const WriteColumns& c) {
 
 }  // namespace
 
-double Dataset::common_dt() const {
-  require(!records.empty(), "dataset has no records");
-  const double dt = records.front().dt;
-  for (const auto& r : records)
-    if (std::abs(r.dt - dt) > 1e-6 * dt)
-      throw Error(r.source + ": record " + std::to_string(r.id) + " has dt = " +
-                  RecordBuilder::num(r.dt) + " but " + records.front().source + " record " +
-                  std::to_string(records.front().id) + " has dt = " + RecordBuilder::num(dt) +
-                  " (all records must share one sampling interval)");
-  return dt;
-}
-
-void Dataset::append(Dataset&& other) {
-  const std::size_t shift = x.size();
-  if (has_u() != other.has_u() && !records.empty())
-    throw Error(other.records.front().source + ": has " + (other.has_u() ? "a" : "no") +
-                " drive column u, unlike " + records.front().source);
-  if (has_y() != other.has_y() && !records.empty()) {
-    y.clear();
-    other.y.clear();
-  }
-  for (auto& r : other.records) {
-    r.offset += shift;
-    records.push_back(std::move(r));
-  }
-  x.insert(x.end(), other.x.begin(), other.x.end());
-  u.insert(u.end(), other.u.begin(), other.u.end());
-  y.insert(y.end(), other.y.begin(), other.y.end());
-}
-
 Dataset read_measurements(const std::string& path, const ReadOptions& options) {
   return ends_with(path, ".npy") ? read_npy(path, options) : read_csv(path, options);
 }
@@ -562,20 +532,6 @@ void write_measurements(const std::string& path, const Dataset& data, const Writ
     else
       write_csv(os, data, cols);
   });
-}
-
-void subtract_record_means(Dataset& data) {
-  for (const auto& r : data.records) {
-    auto center = [&](std::vector<double>& col) {
-      if (col.empty()) return;
-      double m = 0.0;
-      for (std::size_t i = 0; i < r.size; ++i) m += col[r.offset + i];
-      m /= static_cast<double>(r.size);
-      for (std::size_t i = 0; i < r.size; ++i) col[r.offset + i] -= m;
-    };
-    center(data.x);
-    center(data.u);
-  }
 }
 
 }  // namespace vehs

@@ -27,7 +27,7 @@
 
 #include "vehs/core/detail/progress_counter.hpp"
 #include "vehs/core/statistics.hpp"
-#include "vehs/io/measurements.hpp"
+#include "vehs/core/dataset.hpp"
 #include "vehs/sim/random.hpp"
 #include "vehs/sim/simulate.hpp"
 #include "vehs/sim/steppers.hpp"

@@ -9,6 +9,7 @@
 #include "vehs/core/error.hpp"
 #include "vehs/core/parameters.hpp"
 #include "tools/table.hpp"
+#include "vehs/io/model_file.hpp"
 
 namespace vehs::tools {
 

@@ -12,6 +12,7 @@
 #include "vehs/core/error.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/io/measurements.hpp"
+#include "vehs/io/model_file.hpp"
 
 namespace vehs::tools {
 
@@ -181,7 +182,8 @@ int run_diagnose(Config& c, const AppOptions& app) {
   // model
   const auto& mv = c.raw("model");
   const std::string model_file = mv.is_string() ? mv.get<std::string>() : std::string("(inline)");
-  const Model model = model_from_config_value(mv, c.where("model"));
+  const ModelFile model_file_content = model_from_config_value(mv, c.where("model"));
+  const Model& model = model_file_content.model;
   validate_model(model, model_file);
   require(!model.drift.empty(), model_file + ": the model has no drift terms (a model file needs a 'drift' object)");
   require(!model.diffusion.empty(),
@@ -213,7 +215,7 @@ int run_diagnose(Config& c, const AppOptions& app) {
   const diagnose::Result r = diagnose::diagnose(model, data, o);
 
   // history, report, JSON
-  const auto entries = append_history(history_path, history_entry(model, model_file, label, data, r));
+  const auto entries = append_history(history_path, history_entry(model, model_file, label, data, r, model_file_content.sections));
   Report report(folder, "diagnose-vehs: " + label);
   add_diagnosis_to_report(report, r, label, entries, data_fingerprint(data));
   nlohmann::ordered_json j = diagnosis_to_json(r);

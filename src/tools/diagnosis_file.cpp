@@ -10,6 +10,16 @@ using J = nlohmann::ordered_json;
 J num(double v) { return std::isfinite(v) ? J(v) : J(); }
 }  // namespace
 
+std::string verdict_text(SamplingVerdict v) {
+  return v == SamplingVerdict::Unknown ? "" : enum_to_string(kSamplingVerdictNames, v);
+}
+
+std::string estimator_text(Estimator e) { return e == Estimator::Auto ? "" : enum_to_string(kEstimatorNames, e); }
+
+nlohmann::ordered_json suspect_add_fragment(const diagnose::Suspect& s) {
+  return {{"effects", J::array({{{"name", s.effect}}})}};
+}
+
 nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
   using namespace vehs::diagnose;
   J j;
@@ -24,7 +34,7 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
     e["effect"] = s.effect;
     e["evidence"] = num(s.evidence);
     e["params"] = s.params;
-    e["add"] = s.add;
+    e["add"] = suspect_add_fragment(s);
     e["z"] = num(s.z);
     e["significant"] = s.significant;
     e["held_out_significant"] = s.held_out_significant;
@@ -65,12 +75,12 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
                {"dt", r.lens.dt},
                {"sensor_noise_sd", r.lens.sensor_noise_sd},
                {"description", r.lens.describe()}};
-  j["sampling"] = {{"data_verdict", r.sampling.data_verdict},
-                   {"model_verdict", r.sampling.model_verdict},
-                   {"model_estimator", r.sampling.model_estimator},
+  j["sampling"] = {{"data_verdict", verdict_text(r.sampling.data_verdict)},
+                   {"model_verdict", verdict_text(r.sampling.model_verdict)},
+                   {"model_estimator", estimator_text(r.sampling.model_estimator)},
                    {"data_dt", r.sampling.data_dt},
                    {"model_dt", num(r.sampling.model_dt > 0 ? r.sampling.model_dt : NAN)},
-                   {"twin_scheme", r.sampling.twin_scheme},
+                   {"twin_scheme", enum_to_string(sim::kSchemeNames, r.sampling.twin_scheme)},
                    {"twin_substeps", r.sampling.twin_substeps},
                    {"replicates", r.sampling.replicates}};
   j["data"] = {{"records", r.records}, {"samples", r.samples}, {"rows", r.rows}, {"units", r.units}, {"unit_kind", r.unit_kind}};
@@ -137,7 +147,9 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
   if (!r.suspects.note.empty()) j["suspects_note"] = r.suspects.note;
   j["suspects_heldout"] = {{"rows", r.suspects.baseline_heldout_rows}, {"blocks", r.suspects.blocks}};
   j["warnings"] = r.warnings;
-  j["timings"] = r.timings;
+  J timings = J::object();
+  for (const auto& [stage, seconds] : r.timings) timings[stage] = seconds;
+  j["timings"] = timings;
   return j;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "tools/diagnosis_file.hpp"
 #include "tools/table.hpp"
 
 namespace vehs::tools {
@@ -296,13 +297,13 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
       for (std::size_t i = 0; i < r.suspects.ranked.size(); ++i) {
         const auto& sp = r.suspects.ranked[i];
         std::string params;
-        for (auto it = sp.params.begin(); it != sp.params.end(); ++it) {
+        for (const auto& [key, value] : sp.params) {
           if (!params.empty()) params += ", ";
-          params += it.key() + " = " + (it.value().is_number() ? g(it.value().get<double>()) : it.value().dump());
-          if (sp.params_stderr.contains(it.key()) && sp.params_stderr[it.key()].is_number())
-            params += " ± " + g(sp.params_stderr[it.key()].get<double>(), 2);
+          params += key + " = " + g(value);
+          if (auto se = sp.params_stderr.find(key); se != sp.params_stderr.end()) params += " ± " + g(se->second, 2);
         }
-        t.rows.push_back({sp.effect, g(sp.evidence), g(sp.z, 3), sp.significant ? "yes" : "no", params, sp.add.dump()});
+        t.rows.push_back({sp.effect, g(sp.evidence), g(sp.z, 3), sp.significant ? "yes" : "no", params,
+                          suspect_add_fragment(sp).dump()});
         if (sp.significant) t.highlight.push_back(i);
         bars.add_row(label_text(sp.effect), {std::isfinite(sp.z) ? sp.z : 0.0, sp.evidence});
       }
@@ -365,16 +366,21 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
     t.header = {"item", "value"};
     t.rows.push_back({"records / units", std::to_string(r.records) + " / " + std::to_string(r.units) + " (" + r.unit_kind + ")"});
     t.rows.push_back({"samples / lens rows", std::to_string(r.samples) + " / " + std::to_string(r.rows)});
-    t.rows.push_back({"sampling of the data", r.sampling.data_verdict.empty() ? "-" : r.sampling.data_verdict});
-    t.rows.push_back({"model file says", r.sampling.model_verdict.empty() ? "-" : r.sampling.model_verdict + " (" + r.sampling.model_estimator + ")"});
+    const std::string data_verdict = verdict_text(r.sampling.data_verdict);
+    const std::string model_verdict = verdict_text(r.sampling.model_verdict);
+    t.rows.push_back({"sampling of the data", data_verdict.empty() ? "-" : data_verdict});
+    t.rows.push_back({"model file says", model_verdict.empty() ? "-" : model_verdict + " (" + estimator_text(r.sampling.model_estimator) + ")"});
     t.rows.push_back({"lens", r.lens.describe()});
-    t.rows.push_back({"twins", std::to_string(r.sampling.replicates) + " per record, " + r.sampling.twin_scheme + " with " +
+    t.rows.push_back({"twins", std::to_string(r.sampling.replicates) + " per record, " + enum_to_string(sim::kSchemeNames, r.sampling.twin_scheme) + " with " +
                                    std::to_string(r.sampling.twin_substeps) + " substeps per sample" +
                                    (r.sampling.sensor_noise_sd > 0 ? ", sensor noise sd " + g(r.sampling.sensor_noise_sd) : "")});
     t.rows.push_back({"parameter uncertainty", r.parameter_draws > 0 ? std::to_string(r.parameter_draws) + " refits on " +
                                                                            std::to_string(r.parameter_fit_samples) + " samples each"
                                                                      : "not propagated"});
-    t.rows.push_back({"run time", g(r.timings.value("total", 0.0), 3) + " s"});
+    double total = 0.0;
+    for (const auto& [stage, seconds] : r.timings)
+      if (stage == "total") total = seconds;
+    t.rows.push_back({"run time", g(total, 3) + " s"});
     s.tables.push_back(t);
   }
 }

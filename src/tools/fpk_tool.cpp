@@ -10,6 +10,7 @@
 #include "vehs/core/model.hpp"
 #include "vehs/fpk/stationary.hpp"
 #include "vehs/io/atomic_file.hpp"
+#include "vehs/io/model_file.hpp"
 
 namespace vehs::tools {
 
@@ -156,7 +157,8 @@ const ConfigSchema& fpk_schema() {
 }
 
 int run_fpk(Config& cfg, const AppOptions& app) {
-  const Model model = model_from_config_value(cfg.raw("model"), cfg.where("model"));
+  const ModelFile model_file = model_from_config_value(cfg.raw("model"), cfg.where("model"));
+  const Model& model = model_file.model;
   const std::string model_where =
       cfg.raw("model").is_string() ? cfg.raw("model").get<std::string>() : cfg.where("model");
   const FpkModel fm(model, model_where);
@@ -221,7 +223,7 @@ int run_fpk(Config& cfg, const AppOptions& app) {
       for (const auto& f : sweep_figures(cfg.string("figures"), sw)) figures.push_back(f);
   }
   if (cfg.has("figures")) out["figures"] = figures;
-  out["model"] = model_to_json(model);
+  out["model"] = model_to_json(model, model_file.sections);
   write_json_atomically(output, out);
   if (!app.quiet)
     std::cerr << "fpk-stationary: E[X^2] = " << res.moments.exx << ", E[Y^2] = " << res.moments.eyy

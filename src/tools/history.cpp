@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "vehs/io/atomic_file.hpp"
+#include "vehs/io/model_file.hpp"
 #include "vehs/core/error.hpp"
 
 namespace vehs::tools {
@@ -72,13 +73,14 @@ std::string model_hash(const Model& model) {
 }
 
 nlohmann::ordered_json history_entry(const Model& model, const std::string& model_file, const std::string& label,
-                                     const Dataset& data, const diagnose::Result& result) {
+                                     const Dataset& data, const diagnose::Result& result,
+                                     const nlohmann::ordered_json& model_sections) {
   nlohmann::ordered_json e;
   e["time"] = now_iso();
   e["label"] = label;
   e["model_file"] = model_file;
   e["model_hash"] = model_hash(model);
-  e["model"] = model_to_json(model);  // the model itself: the history stays readable when files move
+  e["model"] = model_to_json(model, model_sections);  // the model itself: the history stays readable when files move
   nlohmann::ordered_json terms = nlohmann::ordered_json::array(), dterms = nlohmann::ordered_json::array();
   for (const auto& tc : model.drift) terms.push_back(tc.term.name());
   for (const auto& tc : model.diffusion) dterms.push_back(tc.term.name());

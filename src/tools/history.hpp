@@ -14,7 +14,7 @@
 
 #include "vehs/core/model.hpp"
 #include "vehs/diagnose/diagnose.hpp"
-#include "vehs/io/measurements.hpp"
+#include "vehs/core/dataset.hpp"
 
 namespace vehs::tools {
 
@@ -23,9 +23,11 @@ std::string data_fingerprint(const Dataset& data);
 /// A short hex hash of a model's drift, diffusion and effects.
 std::string model_hash(const Model& model);
 
-/// The entry of one run.
+/// The entry of one run; `model_sections` are the other sections of the model's file (kept in
+/// the stored copy of the model).
 nlohmann::ordered_json history_entry(const Model& model, const std::string& model_file, const std::string& label,
-                                     const Dataset& data, const diagnose::Result& result);
+                                     const Dataset& data, const diagnose::Result& result,
+                                     const nlohmann::ordered_json& model_sections = nlohmann::ordered_json::object());
 
 /// Reads the history file (empty when it does not exist); throws vehs::Error naming the file
 /// when it exists but is not a history file.

@@ -8,10 +8,12 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/core/parameters.hpp"
+#include "tools/identify_file.hpp"
 #include "tools/study_output.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/identify/dynamic.hpp"
 #include "vehs/io/measurements.hpp"
+#include "vehs/io/model_file.hpp"
 
 namespace vehs::tools {
 
@@ -296,7 +298,7 @@ identify::StudyOptions study_options(const Config& c) {
   const Config s = c.object("study", {"truth", "dt", "samples", "repeats", "records", "scheme",
                                       "substeps", "x0", "seed", "sensor_noise", "burn_in"});
   StudyOptions o;
-  o.truth = model_from_config_value(s.raw("truth"), s.where("truth"));
+  o.truth = model_from_config_value(s.raw("truth"), s.where("truth")).model;
   validate_model(o.truth, s.where("truth"));
   const auto dts = number_list(s, "dt");
   const auto ns = number_list(s, "samples");
@@ -354,25 +356,26 @@ int run_identify(Config& c, const AppOptions& app) {
   ds["files"] = files;
   ds["records"] = data.records.size();
   ds["samples"] = data.total_samples();
-  ds["dt"] = r.sampling.dt;
+  ds["dt"] = r.model.fit->sampling.dt;
   double duration = 0.0, xmin = data.x.empty() ? 0.0 : data.x[0], xmax = xmin;
   for (const auto& rec : data.records) duration += static_cast<double>(rec.size - 1) * rec.dt;
   for (double v : data.x) xmin = std::min(xmin, v), xmax = std::max(xmax, v);
   ds["duration"] = duration;
   ds["x_range"] = {xmin, xmax};
   ds["detrend"] = detrend;
-  r.model.extra["data"] = ds;
-  r.model.extra["provenance"] = {{"tool", "identify-vehs"}, {"library", "vehs 0.1.0"}, {"config", c.json()}};
+  nlohmann::ordered_json sections = identify_report_sections(r);
+  sections["data"] = ds;
+  sections["provenance"] = {{"tool", "identify-vehs"}, {"library", "vehs 0.1.0"}, {"config", c.json()}};
   validate_model(r.model, output);
-  write_json_atomically(output, model_to_json(r.model));
+  write_model_file(output, r.model, sections);
   if (!app.quiet) {
-    std::printf("estimator: %s (stride %d; %s)\n", enum_to_string(kEstimatorNames, r.estimator_used).c_str(),
-                r.stride, r.model.extra["estimator"]["reason"].get<std::string>().c_str());
+    std::printf("estimator: %s (stride %d; %s)\n", enum_to_string(kEstimatorNames, r.model.fit->estimator).c_str(),
+                r.model.fit->stride, r.report.estimator.reason.c_str());
     std::printf("%-14s %14s %12s\n", "parameter", "value", "stderr");
     for (const auto& p : physical_parameters(r.model))
       std::printf("%-14s %14s %12s\n", p.name.c_str(), g(p.value).c_str(),
                   p.stderr_ ? g(*p.stderr_, 3).c_str() : "");
-    std::printf("%zu rows in %.2f s; model written to %s\n", r.rows, r.seconds, output.c_str());
+    std::printf("%zu rows in %.2f s; model written to %s\n", r.report.fit.rows, r.report.fit.seconds, output.c_str());
   }
   return 0;
 }

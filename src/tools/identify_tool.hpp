@@ -6,6 +6,7 @@
 #include "tools/config.hpp"
 #include "vehs/identify/identify.hpp"
 #include "vehs/identify/study.hpp"
+#include "vehs/io/measurements.hpp"
 
 namespace vehs::tools {
 

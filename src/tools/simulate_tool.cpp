@@ -8,6 +8,7 @@
 #include "vehs/core/error.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/io/measurements.hpp"
+#include "vehs/io/model_file.hpp"
 
 namespace vehs::tools {
 
@@ -164,7 +165,9 @@ void read_grid_axis(const Config& g, const std::string& axis, double& lo, double
 SimulateJob simulate_job_from_config(const Config& c) {
   SimulateJob job;
   job.config_file = c.file();
-  job.model = model_from_config_value(c.raw("model"), c.where("model"));
+  ModelFile model_file = model_from_config_value(c.raw("model"), c.where("model"));
+  job.model = std::move(model_file.model);
+  job.model_sections = std::move(model_file.sections);
   SimulationOptions& o = job.options;
   o.records = static_cast<int>(c.integer_at_least("trajectories", 1, 100));
   if (c.integer_or("trajectories", 100) > 1000000000) c.fail("trajectories", "must be <= 1e9");
@@ -332,7 +335,7 @@ int run_simulate_job(const SimulateJob& job, const AppOptions& app) {
     s["steps_per_second"] = summary.steps_per_second;
     s["threads"] = summary.threads;
     s["seed"] = o.seed;
-    s["model"] = model_to_json(job.model);
+    s["model"] = model_to_json(job.model, job.model_sections);
     write_json_atomically(job.summary, s);
   }
   if (!app.quiet) {

@@ -13,6 +13,7 @@ namespace vehs::tools {
 
 struct SimulateJob {
   Model model;
+  nlohmann::ordered_json model_sections;  ///< other sections of the model file (echoed in the summary)
   sim::SimulationOptions options;
   std::string output;            ///< measurement file (.csv or .npy); empty: none
   bool record_velocity = true;   ///< write the y column

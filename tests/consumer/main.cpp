@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include <vehs/io/model_file.hpp>
 #include <vehs/vehs.hpp>
 
 int main() {

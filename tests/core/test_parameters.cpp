@@ -2,6 +2,7 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/core/parameters.hpp"
+#include "vehs/io/model_file.hpp"
 
 TEST_CASE("physical parameter names map to term coefficients with the paper's signs", "[parameters]") {
   auto m = vehs::model_from_json(nlohmann::json::parse(R"J({

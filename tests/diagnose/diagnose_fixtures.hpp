@@ -4,12 +4,14 @@
 // libraries.
 #include <catch2/catch.hpp>
 
+#include <map>
 #include <string>
 #include <vector>
 
 #include "vehs/core/model.hpp"
 #include "vehs/diagnose/diagnose.hpp"
 #include "vehs/identify/identify.hpp"
+#include "vehs/io/model_file.hpp"
 #include "vehs/sim/simulate.hpp"
 
 namespace diag_test {
@@ -66,6 +68,24 @@ inline vehs::diagnose::Options fast_options(std::uint64_t seed) {
   o.replicates = 2;
   o.fpk_cells = 80;
   return o;
+}
+
+/// "name seconds, ..." of a diagnosis's stage timings (for messages).
+inline std::string timings_text(const vehs::diagnose::Result& r) {
+  std::string s;
+  for (const auto& [stage, seconds] : r.timings) s += (s.empty() ? "" : ", ") + stage + " " + std::to_string(seconds);
+  return s;
+}
+inline double total_seconds(const vehs::diagnose::Result& r) {
+  for (const auto& [stage, seconds] : r.timings)
+    if (stage == "total") return seconds;
+  return 0.0;
+}
+/// "key = value, ..." of fitted parameters (for messages).
+inline std::string params_text(const std::map<std::string, double>& params) {
+  std::string s;
+  for (const auto& [k, v] : params) s += (s.empty() ? "" : ", ") + k + " = " + std::to_string(v);
+  return s;
 }
 
 }  // namespace diag_test

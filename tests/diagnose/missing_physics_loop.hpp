@@ -13,6 +13,7 @@
 #include <string>
 
 #include "diagnose_fixtures.hpp"
+#include "vehs/io/model_file.hpp"
 
 namespace diag_test::loop {
 
@@ -44,11 +45,11 @@ inline std::string describe(const Result& r) {
   s += " | suspects:";
   for (const auto& sp : r.suspects.ranked)
     s += " " + sp.effect + " " + std::to_string(sp.evidence) + " (z " + std::to_string(sp.z) + ", " +
-         sp.params.dump() + ")";
+         params_text(sp.params) + ")";
   for (const auto& [e, why] : r.suspects.untested) s += " | untested " + e + ": " + why;
   if (!r.suspects.note.empty()) s += " | note: " + r.suspects.note;
   s += " | seconds:";
-  s += r.timings.dump();
+  s += timings_text(r);
   return s;
 }
 
@@ -130,7 +131,7 @@ inline LoopOutcome run_loop(const Hidden& h, std::uint64_t seed, std::size_t sam
                            ->effect;
   VEHS_LOOP_CHECK(r0.suspects.ranked[0].effect == h.effect.name());
   VEHS_LOOP_CHECK(r0.suspects.ranked[0].significant);
-  VEHS_LOOP_CHECK(r0.suspects.ranked[0].add["effects"][0]["name"] == h.effect.name());
+  VEHS_LOOP_CHECK(r0.suspects.ranked[0].effect == h.effect.name());
 
   // the user's one-line change: add the effect named by the diagnosis
   vehs::Effect added;
@@ -140,8 +141,8 @@ inline LoopOutcome run_loop(const Hidden& h, std::uint64_t seed, std::size_t sam
   if (vehs::effect_spec(added.id).term_like) {
     const auto ep = vehs::identify::effect_parameters(refit, {added});
     REQUIRE(ep.size() == 1);
-    fitted = ep[0]["params"];
-    fitted_se = ep[0]["stderr"];
+    for (const auto& [k, v] : ep[0].params) fitted[k] = v;
+    for (const auto& [k, v] : ep[0].stderr_) fitted_se[k] = v;
   } else {
     const vehs::Effect* fe = refit.find_effect(added.id);
     REQUIRE(fe != nullptr);

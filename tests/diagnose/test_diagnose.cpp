@@ -170,8 +170,8 @@ TEST_CASE("missing Coulomb friction: inadequate, the map's failure sits at v = 0
   REQUIRE_FALSE(r.suspects.ranked.empty());
   CHECK(r.suspects.ranked[0].effect == "coulomb_friction");
   CHECK(r.suspects.ranked[0].significant);
-  CHECK(r.suspects.ranked[0].params.value("mu", 0.0) == Approx(0.1).margin(0.03));
-  CHECK(r.suspects.ranked[0].add["effects"][0]["name"] == "coulomb_friction");
+  CHECK(r.suspects.ranked[0].params.at("mu") == Approx(0.1).margin(0.03));
+  CHECK(r.suspects.ranked[0].effect == "coulomb_friction");
 }
 
 TEST_CASE("missing asymmetric stiffness: inadequate, asymmetric_stiffness is the first suspect",
@@ -191,7 +191,7 @@ TEST_CASE("missing asymmetric stiffness: inadequate, asymmetric_stiffness is the
   REQUIRE_FALSE(r.suspects.ranked.empty());
   CHECK(r.suspects.ranked[0].effect == "asymmetric_stiffness");
   CHECK(r.suspects.ranked[0].significant);
-  CHECK(r.suspects.ranked[0].params.value("k2", 0.0) == Approx(0.15).margin(0.08));
+  CHECK(r.suspects.ranked[0].params.at("k2") == Approx(0.15).margin(0.08));
   // the even force is largest where |x| is large: the failing x row is away from the barrier
   double best = 0, xbest = 0;
   for (std::size_t i = 0; i < r.map.x_profile_mean.size(); ++i)
@@ -233,7 +233,9 @@ TEST_CASE("mismatched inputs get one-line errors naming the problem", "[diagnose
   auto with_u = with_term(bistable(), "u", 1.0);
   CHECK_THAT(error_of([&] { diagnose(with_u, d, o); }), Catch::Contains("drive term 'u'"));
   auto stated = bistable();
-  stated.extra["sampling"] = {{"dt", 0.001}, {"verdict", "scheme-consistent"}};
+  stated.fit.emplace();
+  stated.fit->sampling.dt = 0.001;
+  stated.fit->sampling.verdict = vehs::SamplingVerdict::SchemeConsistent;
   CHECK_THAT(error_of([&] { diagnose(stated, d, o); }), Catch::Contains("sampling.dt"));
   auto expected = o;
   expected.expected_dt = 0.005;

@@ -142,5 +142,5 @@ TEST_CASE("dynamic twins explore", "[.][bench][explore_dt]") {
     d = simulate(filt(dynamic_model(phase)), s);
   }
   const Result r = vehs::diagnose::diagnose(filt(dynamic_model(phase)), d, options(1));
-  WARN(k << ": " << describe(r) << " twins " << r.sampling.twin_scheme << " x" << r.sampling.twin_substeps << " data " << r.sampling.data_verdict << " lens " << r.lens.describe());
+  WARN(k << ": " << describe(r) << " twins " << vehs::enum_to_string(vehs::sim::kSchemeNames, r.sampling.twin_scheme) << " x" << r.sampling.twin_substeps << " data " << vehs::enum_to_string(vehs::kSamplingVerdictNames, r.sampling.data_verdict) << " lens " << r.lens.describe());
 }

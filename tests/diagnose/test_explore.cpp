@@ -4,6 +4,8 @@
 #include <iostream>
 
 #include "diagnose_fixtures.hpp"
+#include "vehs/io/measurements.hpp"
+#include "vehs/io/model_file.hpp"
 
 using namespace diag_test;
 
@@ -14,12 +16,12 @@ void summary(const vehs::diagnose::Result& r) {
     std::printf(" %s p=%.3g(%g)", c.name.c_str(), c.test.available ? c.test.p_value : -1.0, c.test.dof);
   std::printf(" | sus:");
   for (const auto& s : r.suspects.ranked) std::printf(" %s %.1f z%.1f%s", s.effect.substr(0, 8).c_str(), s.evidence, s.z, s.held_out_significant ? "*" : "");
-  std::printf(" | t=%.2f\n", r.timings.value("total", 0.0));
-  std::printf("   %s\n", r.timings.dump().c_str());
+  std::printf(" | t=%.2f\n", total_seconds(r));
+  std::printf("   %s\n", timings_text(r).c_str());
   for (std::size_t w = 0; w < std::min<std::size_t>(3, r.map.worst.size()); ++w) {
     const auto& b = r.map.bins[static_cast<std::size_t>(r.map.worst[w])];
     std::printf("   worst bin x=%.3f v=%.3f z=%.2f  lens=%s twins=%s/%d R=%d\n", b.x, b.v, b.z_mean,
-                r.lens.describe().substr(0, 30).c_str(), r.sampling.twin_scheme.c_str(), r.sampling.twin_substeps, r.sampling.replicates);
+                r.lens.describe().substr(0, 30).c_str(), vehs::enum_to_string(vehs::sim::kSchemeNames, r.sampling.twin_scheme).c_str(), r.sampling.twin_substeps, r.sampling.replicates);
   }
   for (const auto& w : r.warnings) std::printf("   warning: %s\n", w.c_str());
 }
@@ -115,7 +117,7 @@ TEST_CASE("explore: paper-sized data", "[bench][explore_paper]") {
   if (std::getenv("VEHS_EXPLORE_NOSUS")) o.suspects.enabled = false;
   const auto r = vehs::diagnose::diagnose(m, d, o);
   summary(r);
-  std::printf("%s\n", r.timings.dump().c_str());
+  std::printf("%s\n", timings_text(r).c_str());
   for (const auto& q : r.quantities)
     std::printf("%s data %.6g twin %.6g z %.3g\n", q.name.c_str(), q.data, q.twin, q.z);
 }
@@ -134,6 +136,8 @@ TEST_CASE("explore: identify cost", "[bench][explore_id]") {
     if (rep > 0) o.folds = 1;
     if (rep > 1) o.pilot_samples = 20000;
     const auto r = vehs::identify::identify(d, o);
-    std::printf("%.3f s %s\n", r.seconds, r.model.extra["fit"]["timings"].dump().c_str());
+    std::printf("%.3f s", r.report.fit.seconds);
+    for (const auto& [stage, seconds] : r.report.fit.timings) std::printf(" %s %.3f", stage.c_str(), seconds);
+    std::printf("\n");
   }
 }

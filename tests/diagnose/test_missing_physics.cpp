@@ -15,6 +15,7 @@
 #include <string>
 
 #include "missing_physics_loop.hpp"
+#include "vehs/io/model_file.hpp"
 
 using namespace diag_test;
 using namespace diag_test::loop;

@@ -11,6 +11,7 @@
 #include <random>
 
 #include "missing_physics_loop.hpp"
+#include "vehs/io/model_file.hpp"
 
 using namespace diag_test;
 using namespace diag_test::loop;

@@ -15,6 +15,7 @@
 #include "vehs/sim/simulate.hpp"
 
 #include "../identify/identify_fixtures.hpp"
+#include "diagnose_fixtures.hpp"
 
 using namespace vehs;
 using namespace vehs_test;
@@ -36,7 +37,7 @@ std::string describe(const diagnose::SuspectReport& r) {
   std::string s = r.note;
   for (const auto& sp : r.ranked)
     s += " | " + sp.effect + ": evidence " + std::to_string(sp.evidence) + " z " + std::to_string(sp.z) +
-         " params " + sp.params.dump();
+         " params " + diag_test::params_text(sp.params);
   for (const auto& [e, why] : r.untested) s += " | untested " + e + ": " + why;
   return s;
 }
@@ -46,7 +47,7 @@ void check_first(const diagnose::SuspectReport& r, const std::string& effect) {
   REQUIRE_FALSE(r.ranked.empty());
   CHECK(r.ranked[0].effect == effect);
   CHECK(r.ranked[0].held_out_significant);
-  CHECK(r.ranked[0].add["effects"][0]["name"] == effect);
+  CHECK(r.ranked[0].effect == effect);
 }
 
 }  // namespace
@@ -62,7 +63,7 @@ TEST_CASE("suspects: hidden harmonic forcing is ranked first and significant",
   const Dataset d = simulate_hidden(truth, 1000 + g() % 1000, 8, 40000);
   const auto r = suspects_of(baseline_fit(d), d);
   check_first(r, "harmonic_forcing");
-  CHECK(r.ranked[0].params.value("omega", 0.0) == Approx(e.param("omega")).epsilon(0.01));
+  CHECK(r.ranked[0].params.at("omega") == Approx(e.param("omega")).epsilon(0.01));
 }
 
 TEST_CASE("suspects: hidden impact stops are ranked first and significant",
@@ -127,5 +128,5 @@ TEST_CASE("suspects: a hidden OU (coloured) excitation is ranked first and signi
   const auto r = suspects_of(baseline_fit(d), d);
   check_first(r, "colored_noise");
   INFO(describe(r));
-  CHECK(r.ranked[0].params.value("tau", 0.0) == Approx(e.param("tau")).epsilon(0.3));
+  CHECK(r.ranked[0].params.at("tau") == Approx(e.param("tau")).epsilon(0.3));
 }

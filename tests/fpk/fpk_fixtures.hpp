@@ -7,6 +7,7 @@
 
 #include "vehs/core/model.hpp"
 #include "vehs/fpk/stationary.hpp"
+#include "vehs/io/model_file.hpp"
 
 namespace fpk_fixtures {
 

@@ -8,6 +8,7 @@
 #include "fpk_fixtures.hpp"
 #include "vehs/core/statistics.hpp"
 #include "vehs/fpk/stationary.hpp"
+#include "vehs/io/model_file.hpp"
 #include "vehs/sim/simulate.hpp"
 
 using namespace vehs::fpk;

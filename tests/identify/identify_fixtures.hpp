@@ -12,6 +12,7 @@
 
 #include "vehs/core/model.hpp"
 #include "vehs/identify/identify.hpp"
+#include "vehs/io/model_file.hpp"
 #include "vehs/sim/simulate.hpp"
 
 namespace vehs_test {

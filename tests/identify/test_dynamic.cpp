@@ -11,6 +11,7 @@
 #include "identify_fixtures.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/identify/dynamic.hpp"
+#include "vehs/io/model_file.hpp"
 
 using namespace vehs;
 using namespace vehs_test;
@@ -231,7 +232,7 @@ TEST_CASE("calibration study: electromechanical coupling over seeds (env NREC, N
     const identify::Result r = identify::identify(d, io);
     const Effect& f = r.model.effects[0];
     WARN(pot << " lambda " << f.param("lambda") << " +- " << f.stderr_.at("lambda") << " coupling " << f.param("coupling") << " +- " << f.stderr_.at("coupling")
-         << " beta " << r.model.drift_coef("y") << " +- " << r.model.drift_stderr.at("y") << " " << r.model.extra["estimator"]["used"].dump() << " " << r.model.extra["dynamic_fit"]["rounds"].dump());
+         << " beta " << r.model.drift_coef("y") << " +- " << r.model.drift_stderr.at("y") << " " << vehs::enum_to_string(vehs::kEstimatorNames, r.model.fit->estimator) << " " << r.report.profile->rounds.size());
   }
 }
 

@@ -14,6 +14,7 @@
 #include "identify_fixtures.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/identify/dynamic.hpp"
+#include "vehs/io/model_file.hpp"
 
 using namespace vehs;
 using namespace vehs_test;
@@ -22,21 +23,21 @@ TEST_CASE("sampling rule: white sensor noise is read at lag 2k against lag 3k, a
           "[identify][sampling]") {
   // clean continuous-time residuals: rho_k = 1/4, nothing beyond
   auto r = identify::sampling_rule(0.25, 0.0, 0.0, 2.5e5);
-  CHECK(r.verdict == "continuous-time");
+  CHECK(r.verdict == vehs::SamplingVerdict::ContinuousTime);
   // white sensor noise of share 0.3: rho_k = 1/4 (1 - 0.3) - (2/3) 0.3, rho_2k = 0.3 / 6, rho_3k = 0
   r = identify::sampling_rule(0.25 * 0.7 - 0.2, 0.05, 0.0, 2.5e5);
   CHECK(r.noisy);
   CHECK(r.noise_share == Approx(0.3));
-  CHECK(r.verdict == "noisy");
+  CHECK(r.verdict == vehs::SamplingVerdict::Noisy);
   // an OU excitation with tau = 10 h carrying 8 % of the residual variance: correlation
   // 0.08 e^{-L/10} at lag L (k = 1) on top of the clean pattern — lag 2k alone reads 39 % noise
   const double a = 0.08;
   r = identify::sampling_rule(0.25 * (1 - a) + a * std::exp(-0.1), a * std::exp(-0.2), a * std::exp(-0.3), 2.5e5);
   CHECK_FALSE(r.noisy);
   CHECK(r.noise_share < 0.05);
-  CHECK(r.verdict == "continuous-time");
+  CHECK(r.verdict == vehs::SamplingVerdict::ContinuousTime);
   // an explicit scheme at the recorded step: rho_k = 0
-  CHECK(identify::sampling_rule(0.0, 0.0, 0.0, 2.5e5).verdict == "scheme-consistent");
+  CHECK(identify::sampling_rule(0.0, 0.0, 0.0, 2.5e5).verdict == vehs::SamplingVerdict::SchemeConsistent);
   // short data: a 10 % share measured on 2000 rows is within 3 standard errors of nothing
   CHECK_FALSE(identify::sampling_rule(0.25, 0.1 / 6, 0.0, 2000).noisy);
 }
@@ -52,10 +53,11 @@ TEST_CASE("an OU excitation is not mistaken for sensor noise: identify on its da
   truth.effects = {e};
   const Dataset d = simulate_hidden(truth, 5100, 8, 40000);
   const identify::Result r = identify::identify(d, baseline_options());
-  INFO("rho_k " << r.sampling.rho_k << " rho_2k " << r.sampling.rho_2k << " rho_3k " << r.sampling.rho_3k);
-  CHECK(6.0 * r.sampling.rho_2k > 0.1);  // the OU's memory: lag 2k alone would read > 10 % noise ...
-  CHECK(r.sampling.noise_share < 0.05);  // ... and is not read as sensor noise
-  CHECK(r.estimator_used == identify::Estimator::Uli);
+  const auto& sampling = r.model.fit->sampling;
+  INFO("rho_k " << sampling.rho_k << " rho_2k " << sampling.rho_2k << " rho_3k " << sampling.rho_3k);
+  CHECK(6.0 * sampling.rho_2k > 0.1);  // the OU's memory: lag 2k alone would read > 10 % noise ...
+  CHECK(sampling.noise_share < 0.05);  // ... and is not read as sensor noise
+  CHECK(r.model.fit->estimator == identify::Estimator::Uli);
 }
 
 TEST_CASE("dynamic effects: colored_noise (OU time constant and intensity) on two potentials",

@@ -8,6 +8,7 @@
 #include "identify_fixtures.hpp"
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/io/model_file.hpp"
 
 using namespace vehs;
 using namespace vehs_test;
@@ -22,9 +23,9 @@ TEST_CASE("issue 2: default settings on the paper's own scheme find the six drif
   const Model truth = paper_truth();
   const Dataset d = simulate(truth, 0.001, 1, 20, 100000, 2701);
   const identify::Result r = identify::identify(d, identify::Options{});
-  INFO(model_to_json(r.model)["selection"]["drift"]["path"].dump());
-  CHECK(r.estimator_used == identify::Estimator::Forward);  // scheme-consistent data detected
-  CHECK(std::abs(r.sampling.rho_k) < 0.05);
+  INFO(r.report.drift_selection.selection.rule);
+  CHECK(r.model.fit->estimator == identify::Estimator::Forward);  // scheme-consistent data detected
+  CHECK(std::abs(r.model.fit->sampling.rho_k) < 0.05);
   CHECK(names(r.model.drift) == kTrueDrift);
   CHECK(names(r.model.diffusion) == kTrueDiffusion);
   const Deviation dev = compare(r.model, truth);
@@ -33,9 +34,8 @@ TEST_CASE("issue 2: default settings on the paper's own scheme find the six drif
   CHECK(rel_error(r.model, truth, true, "x^2") <= 0.02);
   // every reported coefficient has a standard error, and the path is in the model file
   for (const auto& tc : r.model.drift) CHECK(r.model.drift_stderr.count(tc.term.name()) == 1);
-  const auto j = model_to_json(r.model);
-  CHECK(j["selection"]["drift"]["path"].size() == 15);
-  CHECK(j["sampling"]["verdict"] == "scheme-consistent");
+  CHECK(r.report.drift_selection.selection.path.size() == 15);
+  CHECK(r.model.fit->sampling.verdict == vehs::SamplingVerdict::SchemeConsistent);
 }
 
 TEST_CASE("continuous-time records: correct support, coefficients within 3 standard errors",
@@ -45,8 +45,8 @@ TEST_CASE("continuous-time records: correct support, coefficients within 3 stand
   const Model truth = paper_truth();
   const Dataset d = simulate(truth, dt, 20, 20, 100000, 31 + static_cast<std::uint64_t>(1e4 * dt));
   const identify::Result r = identify::identify(d, identify::Options{});
-  CHECK(r.estimator_used == identify::Estimator::Uli);
-  CHECK(r.sampling.rho_k == Approx(0.25).margin(0.03));
+  CHECK(r.model.fit->estimator == identify::Estimator::Uli);
+  CHECK(r.model.fit->sampling.rho_k == Approx(0.25).margin(0.03));
   CHECK(names(r.model.drift) == kTrueDrift);
   CHECK(names(r.model.diffusion) == kTrueDiffusion);
   const Deviation dev = compare(r.model, truth);
@@ -60,7 +60,7 @@ TEST_CASE("continuous-time records: correct support, coefficients within 3 stand
   CHECK(rel_error(r.model, truth, true, "1") <= 0.05);
   CHECK(rel_error(r.model, truth, true, "x^2") <= 0.05);
   // the residuals of a continuous process sampled at dt are MA(1) with lag-1 correlation 1/4
-  CHECK(model_to_json(r.model)["residuals"]["autocorrelation"]["lag1"].get<double>() == Approx(0.25).margin(0.03));
+  CHECK(r.report.residuals.autocorrelation_at(1) == Approx(0.25).margin(0.03));
 }
 
 TEST_CASE("the paper's estimator shows its documented biases (why the default exists)", "[identify][paper]") {
@@ -92,9 +92,9 @@ TEST_CASE("white sensor noise (sd 1e-3 at dt = 0.005): the noisy estimator keeps
   const Model truth = paper_truth();
   const Dataset d = simulate(truth, 0.005, 20, 20, 100000, 4242, 1e-3);
   const identify::Result r = identify::identify(d, identify::Options{});
-  CHECK(r.estimator_used == identify::Estimator::Noisy);
-  CHECK(r.stride > 1);
-  CHECK(r.sampling.sensor_noise_sd == Approx(1e-3).epsilon(0.1));
+  CHECK(r.model.fit->estimator == identify::Estimator::Noisy);
+  CHECK(r.model.fit->stride > 1);
+  CHECK(r.model.fit->sampling.sensor_noise_sd == Approx(1e-3).epsilon(0.1));
   compare(r.model, truth);
   CHECK(rel_error(r.model, truth, false, "y") <= 0.10);
   CHECK(rel_error(r.model, truth, true, "1") <= 0.10);
@@ -105,10 +105,12 @@ TEST_CASE("results do not depend on the number of threads", "[identify]") {
   const Dataset d = simulate(paper_truth(), 0.01, 20, 6, 20000, 5);
   auto run = [&](int threads) {
     set_threads(threads);
-    auto j = model_to_json(identify::identify(d, identify::Options{}).model);
-    j["fit"].erase("seconds");
-    j["fit"].erase("timings");
-    return j.dump();
+    const auto r = identify::identify(d, identify::Options{});
+    std::string s = model_to_json(r.model).dump();  // coefficients, standard errors, fit
+    for (const auto* sel : {&r.report.drift_selection.selection, &r.report.diffusion_selection.selection})
+      for (std::size_t k = 0; k < sel->path.size(); ++k)
+        s += " " + std::to_string(sel->bic[k]) + " " + std::to_string(sel->cv_loss[k]);
+    return s + " " + std::to_string(r.report.residuals.rms);
   };
   const std::string one = run(1), two = run(2);
   set_threads(0);
@@ -124,11 +126,10 @@ TEST_CASE("Coulomb friction as an effect: kept in the dictionary, mu reported wi
   identify::Options o;
   o.effects.push_back(effect_from_json("coulomb_friction", "test", false));
   const auto r = identify::identify(d, o);
-  const auto j = model_to_json(r.model);
-  INFO(j["drift"].dump() << " " << j["stderr"].dump() << " " << j["effect_params"].dump());
-  REQUIRE(j.contains("effect_params"));
-  const double mu = j["effect_params"][0]["params"]["mu"].get<double>();
-  const double se = j["effect_params"][0]["stderr"]["mu"].get<double>();
+  INFO(model_to_json(r.model).dump());
+  REQUIRE(r.report.effect_params.size() == 1);
+  const double mu = r.report.effect_params[0].params.at("mu");
+  const double se = r.report.effect_params[0].stderr_.at("mu");
   CHECK(std::abs(mu - 0.05) <= 3 * se);
   CHECK(se < 0.02);
   CHECK(compare(r.model, truth).max_z <= 3.0);

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "vehs/io/model_file.hpp"
 #include "vehs/sim/random.hpp"
 #include "vehs/sim/simulate.hpp"
 #include "vehs/sim/steppers.hpp"

@@ -14,6 +14,7 @@
 #include <Eigen/Dense>
 
 #include "vehs/core/statistics.hpp"
+#include "vehs/io/model_file.hpp"
 #include "vehs/sim/simulate.hpp"
 
 using namespace vehs::sim;

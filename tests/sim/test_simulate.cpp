@@ -9,6 +9,7 @@
 
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/io/model_file.hpp"
 #include "vehs/sim/simulate.hpp"
 
 using namespace vehs::sim;

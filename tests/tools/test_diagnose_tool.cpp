@@ -13,6 +13,8 @@
 #include "tools/history.hpp"
 #include "tools/tools.hpp"
 #include "vehs/io/atomic_file.hpp"
+#include "vehs/io/measurements.hpp"
+#include "vehs/io/model_file.hpp"
 
 namespace fs = std::filesystem;
 using namespace diag_test;

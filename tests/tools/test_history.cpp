@@ -8,6 +8,7 @@
 #include "../diagnose/diagnose_fixtures.hpp"
 #include "tools/history.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/io/model_file.hpp"
 
 namespace fs = std::filesystem;
 using namespace diag_test;

@@ -12,6 +12,8 @@
 #include "../identify/identify_fixtures.hpp"
 #include "tools/tools.hpp"
 #include "tools/identify_tool.hpp"
+#include "vehs/io/measurements.hpp"
+#include "vehs/io/model_file.hpp"
 
 namespace fs = std::filesystem;
 using namespace vehs;
@@ -54,14 +56,15 @@ TEST_CASE("identify-vehs: CSV and .npy records to a model file with standard err
     fs::remove(out);
     std::string err;
     REQUIRE(run({cfg.string(), "--quiet"}, &err) == 0);
-    const Model m = load_model_file(out.string());
+    const ModelFile file = read_model_file(out.string());
+    const Model& m = file.model;
     CHECK(vehs_test::names(m.drift) == std::set<std::string>{"x", "x^3", "x^5", "x^7", "x^9", "y"});
     CHECK(vehs_test::names(m.diffusion) == std::set<std::string>{"1", "x^2"});
     for (const auto& tc : m.drift) CHECK(m.drift_stderr.count(tc.term.name()) == 1);
     for (const auto& tc : m.diffusion) CHECK(m.diffusion_stderr.count(tc.term.name()) == 1);
     for (const char* key : {"estimator", "sampling", "residuals", "selection", "fit", "data", "provenance"})
-      CHECK(m.extra.contains(key));
-    CHECK(m.extra["data"]["records"] == 10);
+      CHECK(file.sections.contains(key));
+    CHECK(file.sections["data"]["records"] == 10);
     CHECK(vehs_test::compare(m, vehs_test::paper_truth()).max_z <= 3.0);
   }
 }

@@ -19,6 +19,7 @@
 
 #include "vehs/core/model.hpp"
 #include "vehs/core/parameters.hpp"
+#include "vehs/io/model_file.hpp"
 
 namespace fs = std::filesystem;
 

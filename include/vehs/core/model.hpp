@@ -6,9 +6,8 @@
 #include <string_view>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "vehs/core/enum_names.hpp"
+#include "vehs/core/fit_info.hpp"
 #include "vehs/core/terms.hpp"
 
 namespace vehs {
@@ -83,7 +82,9 @@ struct Model {
   std::vector<Effect> effects;  ///< dynamic effects only (term-like ones are expanded)
   std::map<std::string, double> drift_stderr;      ///< by term name
   std::map<std::string, double> diffusion_stderr;  ///< by term name
-  nlohmann::ordered_json extra = nlohmann::ordered_json::object();  ///< other top-level keys
+  /// How the model was fitted (set by identify, read from the model file's "estimator" and
+  /// "sampling"); empty for a model that was not fitted.
+  std::optional<FitInfo> fit;
 
   double drift_coef(std::string_view term) const;      ///< 0 when absent
   double diffusion_coef(std::string_view term) const;  ///< 0 when absent
@@ -95,23 +96,24 @@ struct Model {
   double a22(double x, double y) const { return evaluate(diffusion, x, y, 0.0); }
 };
 
-/// Parses a model object (contracts.md §2). `where` prefixes error messages (a file name or
-/// "config.json: model"). Unknown top-level keys are kept in `extra`.
-Model model_from_json(const nlohmann::json& j, const std::string& where);
-/// Reads a model file.
-Model load_model_file(const std::string& path);
-/// A config's `model` value: an inline object or a path to a model file.
-Model model_from_config_value(const nlohmann::json& value, const std::string& where);
-/// Serialises a model; zero coefficients are omitted.
-nlohmann::ordered_json model_to_json(const Model& m);
+/// Empty when `key` is a parameter of the effect, else the reason as a suffix for an error
+/// message (": effect 'x' has no parameter 'k' (its parameters: ...)").
+std::string unknown_parameter(EffectId id, const std::string& key);
+
+/// Checks an effect's parameters against the catalogue (known names, finite, within bounds) and
+/// completes it: impact_stop's gap_neg defaults to gap; with `require_params` missing parameters
+/// take their defaults or are an error. Returns an empty string, or the reason as a suffix for
+/// an error message (": effect 'x' needs parameter 'y' (...)" or ".params.y must be > 0 ...").
+std::string complete_effect(Effect& effect, bool require_params);
+
+/// Adds an effect to a model: a term-like effect becomes its drift / diffusion terms (an error
+/// when a term is already there), a dynamic one is appended to Model::effects (an error when it
+/// is already there). Its parameters are completed and checked first. Errors are prefixed with
+/// `where`.
+void add_effect(Model& model, Effect effect, const std::string& where);
 
 /// Structural checks shared by every tool: finite coefficients, non-negative noise at the
 /// origin, known effect params within bounds. Throws vehs::Error prefixed with `where`.
 void validate_model(const Model& m, const std::string& where);
-
-/// Parses one effect entry ({"name": ..., "params": {...}} or just "name");
-/// `require_params` false allows params to be missing (identify fits them).
-Effect effect_from_json(const nlohmann::json& j, const std::string& where, bool require_params);
-nlohmann::ordered_json effect_to_json(const Effect& e);
 
 }  // namespace vehs

@@ -5,8 +5,6 @@
 #include <cstddef>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 namespace vehs {
 
 /// A mean and its standard error.

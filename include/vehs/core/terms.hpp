@@ -59,6 +59,9 @@ struct TermCoef {
 };
 using TermList = std::vector<TermCoef>;
 
+/// The terms of a list, in its order.
+std::vector<Term> terms_of(const TermList& terms);
+
 /// Σ coef·term(x, y, u).
 double evaluate(const TermList& terms, double x, double y, double u = 0.0);
 /// Looks up a coefficient; 0 when the term is absent.

@@ -44,17 +44,17 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "vehs/core/dataset.hpp"
 #include "vehs/core/enum_names.hpp"
+#include "vehs/core/fit_info.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/core/progress.hpp"
 #include "vehs/diagnose/hypothesis.hpp"
 #include "vehs/diagnose/lens.hpp"
 #include "vehs/diagnose/suspects.hpp"
-#include "vehs/io/measurements.hpp"
 #include "vehs/sim/simulate.hpp"
 
 namespace vehs::diagnose {
@@ -157,12 +157,12 @@ struct WellInfo {
 };
 
 struct SamplingInfo {
-  std::string data_verdict;     ///< identify's diagnosis of the data
-  std::string model_verdict;    ///< what the model file says (empty: nothing)
-  std::string model_estimator;  ///< estimator stated in the model file
-  double data_dt = 0.0, model_dt = 0.0;
+  SamplingVerdict data_verdict = SamplingVerdict::Unknown;   ///< the data's diagnosis (Unknown: it failed)
+  SamplingVerdict model_verdict = SamplingVerdict::Unknown;  ///< what Model::fit says (Unknown: nothing)
+  Estimator model_estimator = Estimator::Auto;               ///< estimator of Model::fit (Auto: not stated)
+  double data_dt = 0.0, model_dt = 0.0;                      ///< model_dt 0: not stated
   double sensor_noise_sd = 0.0; ///< used by the lens and the twins
-  std::string twin_scheme;
+  sim::Scheme twin_scheme = sim::Scheme::Rk4Euler;
   int twin_substeps = 1;
   int replicates = 1;
 };
@@ -194,7 +194,7 @@ struct Result {
   std::string fpk_note;  ///< why the FPK reference is missing, or its grid
   SuspectReport suspects;
   std::vector<std::string> warnings;
-  nlohmann::ordered_json timings = nlohmann::ordered_json::object();
+  std::vector<std::pair<std::string, double>> timings;  ///< seconds per stage, in order
 };
 
 /// Diagnoses `model` against `data`. Throws vehs::Error (one line) for invalid options, a model

@@ -52,17 +52,16 @@
 // â_i is not used), scored with the same weighted drift contrast in nats. An OU excitation is
 // random, so only the predictable part counts: the gain grows with intensity/a22 and with tau/h.
 #include <limits>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "vehs/core/dataset.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/core/progress.hpp"
 #include "vehs/diagnose/lens.hpp"
 #include "vehs/identify/identify.hpp"
-#include "vehs/io/measurements.hpp"
 
 namespace vehs::diagnose {
 
@@ -101,9 +100,8 @@ struct Suspect {
   bool significant = false;           ///< claimed: held-out significant and the model inadequate
   bool held_out_significant = false;  ///< z > z_threshold and a positive gain, whatever the verdict
   std::string scale;       ///< "drift contrast" or "diffusion likelihood"
-  nlohmann::ordered_json params = nlohmann::ordered_json::object();
-  nlohmann::ordered_json params_stderr = nlohmann::ordered_json::object();
-  nlohmann::ordered_json add;  ///< {"effects": [{"name": ...}]}
+  std::map<std::string, double> params;         ///< the effect's fitted parameters
+  std::map<std::string, double> params_stderr;  ///< their standard errors
   std::vector<std::string> terms;  ///< terms the effect added
   /// Set when the suspect was confirmed by a refit (diagnose's confirmation of close contenders):
   /// the verdict and score of the model refitted with this effect, or why the refit failed.

@@ -86,11 +86,9 @@
 #include <cstddef>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "vehs/core/dataset.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/identify/identify.hpp"
-#include "vehs/io/measurements.hpp"
 
 namespace vehs::identify {
 

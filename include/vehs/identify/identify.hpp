@@ -69,22 +69,18 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "vehs/core/dataset.hpp"
 #include "vehs/core/enum_names.hpp"
+#include "vehs/core/fit_info.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/core/progress.hpp"
 #include "vehs/identify/regression.hpp"
-#include "vehs/io/measurements.hpp"
+#include "vehs/identify/report.hpp"
 
 namespace vehs::identify {
 
-enum class Estimator { Auto, Paper, Forward, Uli, Noisy };
-inline constexpr EnumNames<Estimator, 5> kEstimatorNames{{{Estimator::Auto, "auto"},
-                                                         {Estimator::Paper, "paper"},
-                                                         {Estimator::Forward, "forward"},
-                                                         {Estimator::Uli, "uli"},
-                                                         {Estimator::Noisy, "noisy"}}};
+using vehs::Estimator;  // (vehs/core/fit_info.hpp)
+using vehs::kEstimatorNames;
 
 struct Options {
   std::vector<Term> drift_library = paper_drift_library(11, 3);
@@ -124,18 +120,6 @@ struct Options {
   std::string invalid_reason() const;
 };
 
-/// What the data say about how they were sampled (reported as "sampling" in the model file).
-struct SamplingDiagnosis {
-  double dt = 0.0;
-  int stride = 1;          ///< stride at which the figures below were measured
-  double rho_k = 0.0;      ///< lag-k autocorrelation of pilot ULI residuals
-  double rho_2k = 0.0;     ///< lag-2k autocorrelation
-  double rho_3k = 0.0;     ///< lag-3k autocorrelation
-  double noise_share = 0.0;  ///< η = 6 (ρ_2k − ρ_3k), clamped to [0, 1]
-  double sensor_noise_sd = 0.0;  ///< s estimated when noise is present (0 otherwise)
-  std::string verdict;     ///< "scheme-consistent", "continuous-time", "noisy"
-};
-
 /// The sampling rule shared by identify's pilot and diagnose, from the autocorrelations of ULI
 /// drift residuals at stride k over `rows` rows. For a clean continuous-time process the ULI
 /// noise is correlated over lags < 2k only (ρ_k ≈ 1/4, ρ_2k = ρ_3k = 0); an explicit scheme at
@@ -149,19 +133,15 @@ struct SamplingDiagnosis {
 struct SamplingRule {
   double noise_share = 0.0;
   bool noisy = false, continuous = false;
-  std::string verdict;  ///< "noisy", "continuous-time" or "scheme-consistent"
+  SamplingVerdict verdict = SamplingVerdict::SchemeConsistent;
 };
 SamplingRule sampling_rule(double rho_k, double rho_2k, double rho_3k, double rows);
 
 struct Result {
-  Model model;                 ///< coefficients, stderr and the extras below in model.extra
-  Estimator estimator_used = Estimator::Forward;
-  int stride = 1;
-  SamplingDiagnosis sampling;
-  SelectionResult drift_selection, diffusion_selection;
-  double drift_condition = 0.0, diffusion_condition = 0.0;  ///< full libraries
-  double seconds = 0.0;
-  std::size_t rows = 0;        ///< regression rows used
+  /// Coefficients with standard errors, the fitted dynamic effects, and Model::fit (the
+  /// estimator used, its stride and the sampling diagnosis).
+  Model model;
+  Report report;  ///< how: estimator choice, residuals, selection paths, conditioning, timing
 };
 
 /// Identifies the model from `data` (all records must share one sampling interval).
@@ -170,7 +150,7 @@ struct Result {
 Result identify(const Dataset& data, const Options& options);
 
 /// Physical parameters of term-like effects from fitted coefficients (e.g. mu = −coef of
-/// sign(y)), with standard errors; written as "effect_params" in the model file.
-nlohmann::ordered_json effect_parameters(const Model& model, const std::vector<Effect>& effects);
+/// sign(y)), with standard errors (one Effect per entry of `effects`).
+std::vector<Effect> effect_parameters(const Model& model, const std::vector<Effect>& effects);
 
 }  // namespace vehs::identify

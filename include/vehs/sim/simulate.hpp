@@ -26,11 +26,11 @@
 #include <string>
 #include <vector>
 
+#include "vehs/core/dataset.hpp"
 #include "vehs/core/enum_names.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/core/progress.hpp"
 #include "vehs/core/statistics.hpp"
-#include "vehs/io/measurements.hpp"
 
 namespace vehs::sim {
 

@@ -2,6 +2,7 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/io/model_file.hpp"
 
 using nlohmann::json;
 
@@ -12,16 +13,19 @@ TEST_CASE("model JSON round-trips and exposes the paper's parameters", "[model]"
     "stderr": {"drift": {"x": 0.004}, "diffusion": {"1": 0.0001}},
     "provenance": {"tool": "test"}
   })");
-  const auto m = vehs::model_from_json(j, "m.json");
+  nlohmann::ordered_json sections;
+  const auto m = vehs::model_from_json(j, "m.json", &sections);
   CHECK(-m.drift_coef("y") == 0.1);
   CHECK(-m.drift_coef("x^9") == Approx(3.1));
   CHECK(m.diffusion_coef("x^2") == 0.01);
   CHECK(m.drift_stderr.at("x") == 0.004);
   CHECK(m.b2(1.0, 0.5) == Approx(-1 + 7.7 - 16.3 + 12.5 - 3.1 - 0.05));
   CHECK(m.a22(2.0, 0.0) == Approx(0.06));
-  const auto back = vehs::model_from_json(json::parse(vehs::model_to_json(m).dump()), "again");
+  nlohmann::ordered_json back_sections;
+  const auto back = vehs::model_from_json(json::parse(vehs::model_to_json(m, sections).dump()), "again", &back_sections);
   CHECK(back.drift.size() == 6);
-  CHECK(back.extra.at("provenance").at("tool") == "test");
+  CHECK(back_sections.at("provenance").at("tool") == "test");
+  CHECK(!back.fit);
   CHECK(back.diffusion_stderr.at("1") == 0.0001);
 }
 

@@ -1,0 +1,53 @@
+#pragma once
+// What a model says about the fit that produced it: the estimator, its stride and how the data it
+// was fitted to were sampled. identify sets it (Model::fit) and the model file carries it
+// ("estimator" and "sampling"); diagnose reads it to look at data through the same lens and to
+// refuse data sampled at another interval. A model built in C++ may set it or leave it empty.
+#include <limits>
+
+#include "vehs/core/enum_names.hpp"
+
+namespace vehs {
+
+/// The identification estimators (vehs/identify/identify.hpp describes each).
+enum class Estimator { Auto, Paper, Forward, Uli, Noisy };
+inline constexpr EnumNames<Estimator, 5> kEstimatorNames{{{Estimator::Auto, "auto"},
+                                                         {Estimator::Paper, "paper"},
+                                                         {Estimator::Forward, "forward"},
+                                                         {Estimator::Uli, "uli"},
+                                                         {Estimator::Noisy, "noisy"}}};
+
+/// Central (ULI) kinematics on a stride, as opposed to forward differences at the recorded step.
+inline bool uses_central_kinematics(Estimator e) { return e == Estimator::Uli || e == Estimator::Noisy; }
+
+/// How the data were sampled, as the lag autocorrelations of ULI residuals show it
+/// (identify::sampling_rule).
+enum class SamplingVerdict { Unknown, SchemeConsistent, ContinuousTime, Noisy };
+inline constexpr EnumNames<SamplingVerdict, 4> kSamplingVerdictNames{
+    {{SamplingVerdict::Unknown, "unknown"},
+     {SamplingVerdict::SchemeConsistent, "scheme-consistent"},
+     {SamplingVerdict::ContinuousTime, "continuous-time"},
+     {SamplingVerdict::Noisy, "noisy"}}};
+
+/// The sampling diagnosis of identify's pilot fit (the model file's "sampling"). Figures that
+/// were not measured (a model file that does not state them) are NaN; dt is 0 when unknown.
+struct SamplingDiagnosis {
+  static constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
+  double dt = 0.0;              ///< sampling interval of the data
+  int stride = 0;               ///< stride k at which the figures below were measured (0: unknown)
+  double rho_1 = kUnknown;      ///< lag-1 autocorrelation of pilot ULI residuals
+  double rho_k = kUnknown;      ///< lag-k
+  double rho_2k = kUnknown;     ///< lag-2k
+  double rho_3k = kUnknown;     ///< lag-3k
+  double noise_share = kUnknown;  ///< η = 6 (ρ_2k − ρ_3k), clamped to [0, 1]
+  SamplingVerdict verdict = SamplingVerdict::Unknown;
+  double sensor_noise_sd = 0.0;  ///< white sensor noise s on x (estimated by the noisy estimator)
+};
+
+struct FitInfo {
+  Estimator estimator = Estimator::Auto;  ///< the estimator used (Auto: not stated)
+  int stride = 0;                         ///< its stride k (0: not stated)
+  SamplingDiagnosis sampling;
+};
+
+}  // namespace vehs

@@ -1,0 +1,258 @@
+#include "vehs/io/model_file.hpp"
+
+#include <cmath>
+#include <fstream>
+
+#include "vehs/core/error.hpp"
+#include "vehs/io/atomic_file.hpp"
+
+namespace vehs {
+
+namespace {
+
+using OJ = nlohmann::ordered_json;
+
+double finite_number(const nlohmann::json& v, const std::string& where) {
+  if (!v.is_number()) throw Error(where + " must be a number (got " + v.dump() + ")");
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) throw Error(where + " must be finite");
+  return d;
+}
+
+TermList terms_from_json(const nlohmann::json& j, const std::string& where) {
+  if (!j.is_object()) throw Error(where + " must be an object mapping term names to coefficients");
+  TermList list;
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    Term term;
+    try {
+      term = Term::parse(it.key());
+    } catch (const Error& e) {
+      throw Error(where + ": " + e.what());
+    }
+    list.push_back({term, finite_number(it.value(), where + "[\"" + it.key() + "\"]")});
+  }
+  canonicalize(list, where);
+  return list;
+}
+
+std::map<std::string, double> stderr_from_json(const nlohmann::json& j, const std::string& where) {
+  std::map<std::string, double> m;
+  if (!j.is_object()) throw Error(where + " must be an object");
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    (void)Term::parse(it.key());
+    m[it.key()] = finite_number(it.value(), where + "[\"" + it.key() + "\"]");
+  }
+  return m;
+}
+
+// ---- the fit: "estimator" and "sampling"
+
+double optional_number(const nlohmann::json& o, const char* key, double fallback, const std::string& where) {
+  return o.contains(key) ? finite_number(o[key], where + "." + key) : fallback;
+}
+
+int positive_integer(const nlohmann::json& o, const char* key, const std::string& where) {
+  if (!o.contains(key)) return 0;
+  const auto& v = o[key];
+  if (!v.is_number_integer() || v.get<long long>() < 1 || v.get<long long>() > 1000000)
+    throw Error(where + "." + key + " must be an integer >= 1 (got " + v.dump() + ")");
+  return v.get<int>();
+}
+
+std::optional<FitInfo> fit_from_json(const nlohmann::json& j, const std::string& where) {
+  const bool has_est = j.contains("estimator"), has_samp = j.contains("sampling");
+  if (!has_est && !has_samp) return std::nullopt;
+  FitInfo f;
+  if (has_est) {
+    const auto& e = j["estimator"];
+    const std::string w = where + ": estimator";
+    if (!e.is_object()) throw Error(w + " must be an object");
+    if (e.contains("used")) {
+      if (!e["used"].is_string()) throw Error(w + ".used must be a string");
+      f.estimator = enum_from_string(kEstimatorNames, e["used"].get<std::string>(), w + ".used");
+    }
+    f.stride = positive_integer(e, "stride", w);
+  }
+  if (has_samp) {
+    const auto& s = j["sampling"];
+    const std::string w = where + ": sampling";
+    if (!s.is_object()) throw Error(w + " must be an object");
+    SamplingDiagnosis& d = f.sampling;
+    d.dt = optional_number(s, "dt", 0.0, w);
+    if (d.dt < 0.0) throw Error(w + ".dt must be > 0");
+    d.stride = positive_integer(s, "pilot_stride", w);
+    d.rho_1 = optional_number(s, "rho_lag1", SamplingDiagnosis::kUnknown, w);
+    d.rho_k = optional_number(s, "rho_lag_k", SamplingDiagnosis::kUnknown, w);
+    d.rho_2k = optional_number(s, "rho_lag_2k", SamplingDiagnosis::kUnknown, w);
+    d.rho_3k = optional_number(s, "rho_lag_3k", SamplingDiagnosis::kUnknown, w);
+    d.noise_share = optional_number(s, "noise_share", SamplingDiagnosis::kUnknown, w);
+    d.sensor_noise_sd = optional_number(s, "sensor_noise_sd", 0.0, w);
+    if (s.contains("verdict")) {
+      if (!s["verdict"].is_string()) throw Error(w + ".verdict must be a string");
+      d.verdict = enum_from_string(kSamplingVerdictNames, s["verdict"].get<std::string>(), w + ".verdict");
+    }
+  }
+  return f;
+}
+
+/// Writes the stated fields of the fit over `est` and `samp` (keys keep their position).
+void fit_to_json(const FitInfo& f, OJ& est, OJ& samp) {
+  if (f.estimator != Estimator::Auto) est["used"] = enum_to_string(kEstimatorNames, f.estimator);
+  if (f.stride > 0) est["stride"] = f.stride;
+  const SamplingDiagnosis& d = f.sampling;
+  if (d.dt > 0.0) samp["dt"] = d.dt;
+  if (d.stride > 0) samp["pilot_stride"] = d.stride;
+  auto number = [&](const char* key, double v) {
+    if (std::isfinite(v)) samp[key] = v;
+  };
+  number("rho_lag1", d.rho_1);
+  number("rho_lag_k", d.rho_k);
+  number("rho_lag_2k", d.rho_2k);
+  number("rho_lag_3k", d.rho_3k);
+  number("noise_share", d.noise_share);
+  if (d.verdict != SamplingVerdict::Unknown) samp["verdict"] = enum_to_string(kSamplingVerdictNames, d.verdict);
+  if (f.estimator == Estimator::Noisy || d.sensor_noise_sd > 0.0) samp["sensor_noise_sd"] = d.sensor_noise_sd;
+}
+
+OJ terms_to_json(const TermList& list) {
+  OJ o = OJ::object();
+  for (const auto& tc : list)
+    if (tc.coef != 0.0) o[tc.term.name()] = tc.coef;
+  return o;
+}
+
+}  // namespace
+
+Effect effect_from_json(const nlohmann::json& j, const std::string& where, bool require_params) {
+  Effect e;
+  nlohmann::json params = nlohmann::json::object();
+  std::string name;
+  if (j.is_string()) {
+    name = j.get<std::string>();
+  } else if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (it.key() != "name" && it.key() != "params" && it.key() != "stderr")
+        throw Error(where + ": unknown key '" + it.key() + "' (expected name, params, stderr)");
+    if (!j.contains("name") || !j["name"].is_string()) throw Error(where + ": an effect needs a string 'name'");
+    name = j["name"].get<std::string>();
+    if (j.contains("params")) params = j["params"];
+    if (!params.is_object()) throw Error(where + ".params must be an object");
+    if (j.contains("stderr")) {
+      if (!j["stderr"].is_object()) throw Error(where + ".stderr must be an object");
+      for (auto it = j["stderr"].begin(); it != j["stderr"].end(); ++it)
+        e.stderr_[it.key()] = finite_number(it.value(), where + ".stderr." + it.key());
+    }
+  } else {
+    throw Error(where + " must be an effect name or {\"name\": ..., \"params\": {...}}");
+  }
+  e.id = enum_from_string(kEffectNames, name, where + ".name");
+  for (auto it = params.begin(); it != params.end(); ++it) {
+    if (auto why = unknown_parameter(e.id, it.key()); !why.empty()) throw Error(where + why);
+    e.params[it.key()] = finite_number(it.value(), where + ".params." + it.key());
+  }
+  if (auto why = complete_effect(e, require_params); !why.empty()) throw Error(where + why);
+  return e;
+}
+
+nlohmann::ordered_json effect_to_json(const Effect& e) {
+  OJ j;
+  j["name"] = e.name();
+  j["params"] = OJ::object();
+  for (const auto& [k, v] : e.params) j["params"][k] = v;
+  if (!e.stderr_.empty()) {
+    j["stderr"] = OJ::object();
+    for (const auto& [k, v] : e.stderr_) j["stderr"][k] = v;
+  }
+  return j;
+}
+
+Model model_from_json(const nlohmann::json& j, const std::string& where, nlohmann::ordered_json* sections) {
+  if (!j.is_object()) throw Error(where + ": a model must be a JSON object");
+  Model m;
+  if (!j.contains("drift")) throw Error(where + ": model has no 'drift'");
+  if (!j.contains("diffusion")) throw Error(where + ": model has no 'diffusion'");
+  m.drift = terms_from_json(j["drift"], where + ": drift");
+  m.diffusion = terms_from_json(j["diffusion"], where + ": diffusion");
+  for (const auto& tc : m.diffusion)
+    if (tc.term.depends_on_u() || tc.term.kind == TermKind::SignY)
+      throw Error(where + ": diffusion term '" + tc.term.name() + "' is not allowed");
+  if (j.contains("stderr")) {
+    const auto& s = j["stderr"];
+    if (!s.is_object()) throw Error(where + ": stderr must be an object");
+    if (s.contains("drift")) m.drift_stderr = stderr_from_json(s["drift"], where + ": stderr.drift");
+    if (s.contains("diffusion")) m.diffusion_stderr = stderr_from_json(s["diffusion"], where + ": stderr.diffusion");
+  }
+  if (j.contains("effects")) {
+    const auto& ef = j["effects"];
+    if (!ef.is_array()) throw Error(where + ": effects must be a list");
+    for (std::size_t i = 0; i < ef.size(); ++i) {
+      const std::string w = where + ": effects[" + std::to_string(i) + "]";
+      add_effect(m, effect_from_json(ef[i], w, true), w);
+    }
+  }
+  m.fit = fit_from_json(j, where);
+  if (sections)
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (it.key() != "drift" && it.key() != "diffusion" && it.key() != "stderr" && it.key() != "effects")
+        (*sections)[it.key()] = it.value();
+  return m;
+}
+
+ModelFile read_model_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open model file");
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::parse_error& e) {
+    throw Error(path + ": not valid JSON (" + std::string(e.what()) + ")");
+  }
+  ModelFile f;
+  f.model = model_from_json(j, path, &f.sections);
+  return f;
+}
+
+Model load_model_file(const std::string& path) { return read_model_file(path).model; }
+
+ModelFile model_from_config_value(const nlohmann::json& value, const std::string& where) {
+  if (value.is_string()) return read_model_file(value.get<std::string>());
+  if (!value.is_object()) throw Error(where + " must be a model object or the path of a model file");
+  ModelFile f;
+  f.model = model_from_json(value, where, &f.sections);
+  return f;
+}
+
+nlohmann::ordered_json model_to_json(const Model& m, const nlohmann::ordered_json& sections) {
+  OJ j;
+  j["drift"] = terms_to_json(m.drift);
+  j["diffusion"] = terms_to_json(m.diffusion);
+  if (!m.drift_stderr.empty() || !m.diffusion_stderr.empty()) {
+    OJ s;
+    s["drift"] = OJ::object();
+    s["diffusion"] = OJ::object();
+    // keep the model's term order
+    for (const auto& tc : m.drift)
+      if (auto it = m.drift_stderr.find(tc.term.name()); it != m.drift_stderr.end()) s["drift"][it->first] = it->second;
+    for (const auto& tc : m.diffusion)
+      if (auto it = m.diffusion_stderr.find(tc.term.name()); it != m.diffusion_stderr.end())
+        s["diffusion"][it->first] = it->second;
+    j["stderr"] = s;
+  }
+  j["effects"] = OJ::array();
+  for (const auto& e : m.effects) j["effects"].push_back(effect_to_json(e));
+  for (auto it = sections.begin(); it != sections.end(); ++it) j[it.key()] = it.value();
+  if (m.fit) {
+    OJ est = j.contains("estimator") && j["estimator"].is_object() ? j["estimator"] : OJ::object();
+    OJ samp = j.contains("sampling") && j["sampling"].is_object() ? j["sampling"] : OJ::object();
+    fit_to_json(*m.fit, est, samp);
+    if (!est.empty()) j["estimator"] = est;
+    if (!samp.empty()) j["sampling"] = samp;
+  }
+  return j;
+}
+
+void write_model_file(const std::string& path, const Model& m, const nlohmann::ordered_json& sections) {
+  write_json_atomically(path, model_to_json(m, sections));
+}
+
+}  // namespace vehs
