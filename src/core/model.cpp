@@ -97,6 +97,13 @@ EffectTerms effect_terms(const Effect& e) {
   return t;
 }
 
+EffectTerms unit_effect_terms(EffectId id) {
+  Effect unit;
+  unit.id = id;
+  for (const auto& ps : effect_spec(id).params) unit.params[std::string(ps.name)] = 1.0;
+  return effect_terms(unit);
+}
+
 double Model::drift_coef(std::string_view term) const {
   return coefficient(drift, Term::parse(term));
 }

@@ -164,10 +164,7 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
       }
       added.push_back(name + (c->method == SuspectMethod::DynamicForce ? " (dynamic force)" : " (OU excitation)"));
     } else {
-      Effect unit;
-      unit.id = c->id;
-      for (const auto& ps : effect_spec(c->id).params) unit.params[std::string(ps.name)] = 1.0;
-      const EffectTerms et = effect_terms(unit);
+      const EffectTerms et = unit_effect_terms(c->id);
       for (const auto& tc : et.drift)
         if (coefficient(model.drift, tc.term) == 0.0) added.push_back(tc.term.name());
       for (const auto& tc : et.diffusion)

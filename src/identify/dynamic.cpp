@@ -12,6 +12,9 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/core/statistics.hpp"
+#include "colored_fit.hpp"
+#include "profile_fit.hpp"
+#include "term_fit.hpp"
 #include "vehs/identify/dictionary.hpp"
 
 namespace vehs::identify {
@@ -1045,9 +1048,7 @@ void dynamic_force(const std::vector<Effect>& effects, const Dataset& data, cons
 
 namespace detail {
 
-Result identify_dynamic(const Dataset& data, const Options& options) {
-  for (const auto& e : options.effects)
-    if (e.id == EffectId::ColoredNoise) return identify_colored(data, options);
+Result identify_profile(const Dataset& data, const Options& options) {
   Options base = options;
   base.effects.clear();
   std::vector<Effect> dyn;
@@ -1063,7 +1064,7 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
   std::vector<Component> comps;
   for (const auto& e : dyn) comps.push_back(make_component(e));
 
-  Result cur = identify(data, base);
+  Result cur = identify_terms(data, base);
   ProfileFitReport info;
   std::vector<Effect> fitted;
   FitOut fit;
@@ -1074,13 +1075,9 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
   // powers of x standing in for the stops); later rounds use identify's selection made with the
   // fitted dynamic force subtracted
   std::vector<Term> full = options.drift_library;
-  for (const auto& e : base.effects) {
-    Effect unit;
-    unit.id = e.id;
-    for (const auto& ps : effect_spec(e.id).params) unit.params[std::string(ps.name)] = 1.0;
-    for (const auto& tc : effect_terms(unit).drift)
+  for (const auto& e : base.effects)
+    for (const auto& tc : unit_effect_terms(e.id).drift)
       if (std::find(full.begin(), full.end(), tc.term) == full.end()) full.push_back(tc.term);
-  }
   for (int round = 0; round < 3; ++round) {
     Problem P(data);
     const FitInfo& cur_fit = *cur.model.fit;
@@ -1121,7 +1118,7 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
     }
     Options o2 = base;
     o2.known_force = &force;
-    next = identify(data, o2);
+    next = identify_terms(data, o2);
     const bool same = terms_of(next.model.drift) == support && next.model.fit->estimator == cur_fit.estimator &&
                       next.model.fit->stride == cur_fit.stride;
     cur = next;
@@ -1303,7 +1300,7 @@ Result identify_colored(const Dataset& data, const Options& options) {
   // not), so with colored_noise requested the clean-data ULI estimator is used unless the user
   // chose otherwise
   if (base.estimator == Estimator::Auto) base.estimator = Estimator::Uli;
-  Result cur = identify(data, base);
+  Result cur = identify_terms(data, base);
   require(cur.model.fit->estimator == Estimator::Uli,
           "identify: colored_noise needs the uli estimator (clean, densely sampled displacement); the "
           "options chose '" + enum_to_string(kEstimatorNames, cur.model.fit->estimator) + "'");

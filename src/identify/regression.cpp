@@ -303,4 +303,17 @@ SelectionResult select_sparse(const std::vector<QuadraticStats>& folds,
   return r;
 }
 
+std::vector<int> full_support(int n) {
+  std::vector<int> v(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) v[static_cast<std::size_t>(i)] = i;
+  return v;
+}
+
+Eigen::VectorXd full_coefficients(const SupportFit& f, int K) {
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(K);
+  if (!std::isfinite(f.condition)) return c;
+  for (std::size_t i = 0; i < f.support.size(); ++i) c[f.support[i]] = f.coef[static_cast<Eigen::Index>(i)];
+  return c;
+}
+
 }  // namespace vehs::identify

@@ -75,6 +75,8 @@ struct EffectTerms {
   TermList diffusion;
 };
 EffectTerms effect_terms(const Effect& effect);
+/// The terms an effect adds, with every parameter at 1 (which terms a fit of the effect needs).
+EffectTerms unit_effect_terms(EffectId id);
 
 struct Model {
   TermList drift;      ///< b2 = Σ coef·term

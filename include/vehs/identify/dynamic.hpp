@@ -120,11 +120,4 @@ void colored_prediction(const Effect& colored, const TermList& drift, const Term
                         const double* x, const double* u, std::size_t n, double dt, int k,
                         std::vector<double>& eta_pred);
 
-namespace detail {
-/// identify() with dynamic effects in options.effects (called by identify()).
-Result identify_dynamic(const Dataset& data, const Options& options);
-/// identify() with colored_noise in options.effects (see the header comment).
-Result identify_colored(const Dataset& data, const Options& options);
-}  // namespace detail
-
 }  // namespace vehs::identify

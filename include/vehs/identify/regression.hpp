@@ -50,6 +50,12 @@ struct SupportFit {
 /// Minimises L on `support`. Never throws for ill-conditioning (see `condition`).
 SupportFit fit_support(const QuadraticStats& s, const std::vector<int>& support);
 
+/// 0, 1, …, n − 1: the support of a whole dictionary of n terms.
+std::vector<int> full_support(int n);
+/// A fit's coefficients over the whole dictionary of K terms (0 off the support; all 0 when the
+/// fit failed, i.e. its condition is not finite).
+Eigen::VectorXd full_coefficients(const SupportFit& fit, int K);
+
 /// Condition number of the equilibrated G restricted to `support`; when `weakest` is given,
 /// it receives the eigenvector (on the support, equilibrated scale) of the smallest eigenvalue.
 double equilibrated_condition(const Eigen::MatrixXd& G, const std::vector<int>& support,

@@ -1,11 +1,15 @@
 #pragma once
-// C += Aᵀ·B for thin column-major blocks (m ≤ a few hundred rows, up to ~30 columns), the
-// shape of the feature blocks of the identification. Eigen's GEMM packs its operands, which
-// costs more than the arithmetic at these sizes; this kernel keeps a 4×2 tile of C in
-// registers and streams the rows (GCC/Clang vector extensions: AVX when available, SSE
-// otherwise). Results are deterministic (fixed summation order).
+// Gram accumulation C += Aᵀ·B for thin column-major blocks (m ≤ a few hundred rows, up to ~30
+// columns): the shape of the feature blocks of identify's streaming passes (and of any
+// least-squares problem accumulated block by block). Eigen's GEMM packs its operands, which
+// costs more than the arithmetic at these sizes; this kernel keeps a 4×2 tile of C in registers
+// and streams the rows (GCC/Clang vector extensions: AVX when available, SSE otherwise).
+// Results are deterministic (fixed summation order), hence independent of how blocks are
+// distributed over threads as long as they are reduced in a fixed order.
 #include <cstddef>
 #include <cstring>
+
+#include <Eigen/Core>
 
 // Without AVX (the portable build) GCC notes that 32-byte vectors would be passed differently
 // across an ABI boundary; these helpers are inline and private, so no such boundary exists.
@@ -14,7 +18,9 @@
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
 
-namespace vehs::identify::kernels {
+namespace vehs::identify {
+
+namespace gram {
 
 typedef double v4d __attribute__((vector_size(32)));
 
@@ -68,7 +74,20 @@ inline void add_AtB(const double* A, std::ptrdiff_t lda, const double* B, std::p
   }
 }
 
-}  // namespace vehs::identify::kernels
+}  // namespace gram
+
+/// C += Aᵀ·B over the first `rows` rows of A and B (column-major Eigen matrices); with `lower`
+/// (A and B the same matrix) only the lower triangle of C is updated.
+template <class DA, class DB, class DC>
+void add_gram(const Eigen::DenseBase<DA>& A, const Eigen::DenseBase<DB>& B, int rows,
+              Eigen::DenseBase<DC>& C, bool lower = false) {
+  static_assert(!DA::IsRowMajor && !DB::IsRowMajor && !DC::IsRowMajor, "column-major blocks");
+  gram::add_AtB(A.derived().data(), A.derived().outerStride(), B.derived().data(), B.derived().outerStride(), rows,
+                static_cast<int>(A.cols()), static_cast<int>(B.cols()), C.derived().data(), C.derived().outerStride(),
+                lower);
+}
+
+}  // namespace vehs::identify
 
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop

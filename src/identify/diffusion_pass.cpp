@@ -1,0 +1,181 @@
+#include "diffusion_pass.hpp"
+
+#include <algorithm>
+
+namespace vehs::identify::detail {
+
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+void accumulate_moments(const std::vector<double>& r, std::size_t len, std::size_t avail,
+                        const std::vector<int>& lags, int lr_window, ResidualMoments& m) {
+  const double* rp = r.data();
+  double r2 = 0.0;
+  for (std::size_t j = 0; j < len; ++j) r2 += rp[j] * rp[j];
+  m.n += static_cast<double>(len);
+  m.r2 += r2;
+  for (std::size_t l = 0; l < lags.size(); ++l) {
+    const auto lag = static_cast<std::size_t>(lags[l]);
+    const std::size_t cnt = avail > lag ? std::min(len, avail - lag) : 0;
+    double s = 0.0;
+    for (std::size_t j = 0; j < cnt; ++j) s += rp[j] * rp[j + lag];
+    m.lag_sum[l] += s;
+    m.lag_n[l] += static_cast<double>(cnt);
+  }
+  if (lr_window > 0) {
+    // Σ_j r_j (P[j + L + 1] − P[j + 1]) with prefix sums P, windows clipped at `avail`
+    std::vector<double> P(avail + 1, 0.0);
+    for (std::size_t j = 0; j < avail; ++j) P[j + 1] = P[j] + r[j];
+    for (std::size_t j = 0; j < len; ++j) {
+      const std::size_t hi = std::min(avail, j + 1 + static_cast<std::size_t>(lr_window));
+      m.lr_sum += r[j] * (P[hi] - P[j + 1]);
+    }
+  }
+}
+
+namespace {
+
+std::size_t extra_rows(const Kinematics& kin, const std::vector<int>& lags) {
+  int e = kin.k;
+  for (int l : lags) e = std::max(e, l);
+  return static_cast<std::size_t>(e);
+}
+
+void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span& sp,
+                         DiffusionStats& acc) {
+  const Record& rec = cx.data.records[sp.record];
+  const std::size_t R = cx.kin.rows(rec.size);
+  const std::size_t avail = std::min(R, sp.end + extra_rows(cx.kin, ds.lags)) - sp.begin;
+  const std::size_t len = sp.end - sp.begin;
+  thread_local std::vector<double> r, raw;  // reused between spans (no page faults)
+  span_residuals(cx, ds.dm, rec, sp.begin, avail, r, ds.target == Target::RawKM ? &raw : nullptr);
+  accumulate_moments(r, len, avail, ds.lags, 0, acc.mom);
+  const double* x = cx.data.x_of(rec);
+  const double* u = cx.data.u_of(rec);
+  const int P = cx.psi.size();
+  const Dictionary& phiS = ds.dm.phiS;
+  const int pS = phiS.size();
+  const auto& vt = phiS.velocity_terms();
+  const int Kv = static_cast<int>(vt.size());
+  const bool ito = ds.scores && ds.ito && Kv > 0;
+  const bool noise = ds.scores && ds.noise;
+  const double inv2h2 = 1.0 / (2.0 * cx.kin.h * cx.kin.h), two_h2 = 2.0 / (cx.kin.h * cx.kin.h);
+  VectorXd cv(std::max(Kv, 1));
+  for (int i = 0; i < Kv; ++i) cv[i] = ds.dm.cS[vt[static_cast<std::size_t>(i)]];
+
+  RowBlock b;
+  MatrixXd Psi(kB, P), Aw(kB, P + 1), Phi(kB, std::max(pS, 1)), Dv(kB, std::max(Kv, 1)),
+      D2(kB, std::max(Kv, 1)), Dx(kB, std::max(pS, 1)), Gsub(P + 1, P + 1);
+  VectorXd rr(kB), sw(kB), a22(kB), F(kB), dvc(kB), d2c(kB);
+  std::vector<double> scratch(std::max(cx.psi.scratch_size(), phiS.scratch_size()));
+  // batch accumulators
+  const int RS = score_rows(ds, P), CS = score_cols(P);
+  VectorXd bd = VectorXd::Zero(std::max(pS, 1)), be = VectorXd::Zero(std::max(pS, 1));
+  MatrixXd bW = MatrixXd::Zero(std::max(Kv, 1), P), bG = MatrixXd::Zero(P + 1, P + 1);
+  MatrixXd A(RS, CS);
+  const std::size_t brows = static_cast<std::size_t>(ds.block_rows);
+  const std::size_t nbatches = std::max<std::size_t>(1, len / brows);
+  std::size_t batch = 1;
+  auto batch_end = [&](std::size_t t) {
+    // batch boundaries on multiples of the feature block, the last one at `len`
+    if (t >= nbatches) return len;
+    const std::size_t e = (len * t / nbatches) / kBlockRows * kBlockRows;
+    return std::max<std::size_t>(e, kBlockRows);
+  };
+  std::size_t next_end = batch_end(batch);
+  auto flush = [&] {
+    A.setZero();
+    A.col(0).head(pS) = bd.head(pS);
+    A.col(0).tail(P) = bG.row(P).head(P).transpose();  // bG holds its lower triangle
+    for (int j = 0; j < Kv; ++j) A.row(vt[static_cast<std::size_t>(j)]).segment(1, P) = -0.5 * bW.row(j);
+    A.block(pS, 1, P, P) = -MatrixXd(bG.topLeftCorner(P, P).selfadjointView<Eigen::Lower>());
+    A.col(P + 1).head(pS) = be.head(pS);
+    const Eigen::Map<const VectorXd> va(A.data(), A.size());
+    acc.kron.selfadjointView<Eigen::Lower>().rankUpdate(va);
+    acc.batches += 1.0;
+    bd.setZero();
+    be.setZero();
+    bW.setZero();
+    bG.setZero();
+  };
+  for (std::size_t j0 = 0; j0 < len; j0 += kBlockRows) {
+    const int m = static_cast<int>(std::min<std::size_t>(kBlockRows, len - j0));
+    cx.load(x, u, sp.begin + j0, m, b);
+    acc.mom.v2 += Eigen::Map<const VectorXd>(b.v, m).squaredNorm();
+    cx.psi.values(b, Psi.data(), kB, scratch.data());
+    if (ds.w.weighted) a22.head(m).noalias() = Psi.topLeftCorner(m, P) * ds.w.q;
+    const bool need_dv = Kv > 0 && (ito || noise);
+    if (pS > 0 && (ds.scores || need_dv)) phiS.values(b, Phi.data(), kB, scratch.data());
+    if (need_dv) {
+      phiS.d_dv(b, Dv.data(), kB, scratch.data());
+      dvc.head(m).noalias() = Dv.topLeftCorner(m, Kv) * cv.head(Kv);  // ∂_v F
+    }
+    for (int c = 0; c < m; ++c) {
+      const std::size_t j = j0 + static_cast<std::size_t>(c);
+      rr[c] = r[j];
+      double z = 0.0, w = 1.0;
+      if (!diffusion_target(ds.target, cx.kin, r, raw, j, avail, z)) {
+        w = 0.0;
+      } else {
+        acc.n += 1.0;
+        acc.zsum += z;
+        if (ds.w.weighted) w = 1.0 / std::max(a22[c], ds.w.floor);
+      }
+      sw[c] = w;
+      Aw(c, P) = w * z;
+    }
+    for (int q = 0; q < P; ++q) Aw.col(q).head(m) = Psi.col(q).head(m).cwiseProduct(sw.head(m));
+    Gsub.setZero();
+    add_AtB(Aw, Aw, m, P + 1, P + 1, Gsub, true);
+    acc.Gaug += Gsub;  // (only the lower triangle is meaningful)
+    if (ds.scores) {
+      bG += Gsub;
+      if (pS > 0) {
+        gram::add_AtB(Phi.data(), kB, rr.data(), kB, m, pS, 1, bd.data(), pS, false);
+        if (ito) add_AtB(Dv, Psi, m, Kv, P, bW);
+        if (noise) {
+          // per unit s²: (1/2h²)[∂_vφ (∂_vφᵀc) + ½(φ ∂²_vφᵀc + ∂²_vφ φᵀc)] + (2/h²) ∂_xφ
+          if (Kv > 0) {
+            phiS.d2_dv2(b, D2.data(), kB, scratch.data());
+            F.head(m).noalias() = Phi.topLeftCorner(m, pS) * ds.dm.cS;
+            d2c.head(m).noalias() = D2.topLeftCorner(m, Kv) * cv.head(Kv);
+            be.head(pS).noalias() += 0.5 * inv2h2 * (Phi.topLeftCorner(m, pS).transpose() * d2c.head(m));
+            for (int jv = 0; jv < Kv; ++jv)
+              be[vt[static_cast<std::size_t>(jv)]] +=
+                  inv2h2 * (Dv.col(jv).head(m).dot(dvc.head(m)) + 0.5 * D2.col(jv).head(m).dot(F.head(m)));
+          }
+          phiS.d_dx(b, Dx.data(), kB, scratch.data());
+          be.head(pS).noalias() += two_h2 * Dx.topLeftCorner(m, pS).colwise().sum().transpose();
+        }
+      }
+      if (j0 + static_cast<std::size_t>(m) >= next_end) {
+        flush();
+        ++batch;
+        next_end = batch_end(batch);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<DiffusionStats> diffusion_pass(const Context& cx, const DiffusionSetup& ds,
+                                           const std::vector<Span>& spans, int folds,
+                                           vehs::detail::ProgressCounter* progress) {
+  const int P = cx.psi.size();
+  const int kd = ds.scores ? score_rows(ds, P) * score_cols(P) : 0;
+  std::vector<DiffusionStats> out(static_cast<std::size_t>(folds), DiffusionStats(P, ds.lags.size(), kd));
+  run_spans<DiffusionStats>(
+      spans, [&] { return DiffusionStats(P, ds.lags.size(), kd); },
+      [&](const Span& sp, DiffusionStats& acc) { diffusion_pass_span(cx, ds, sp, acc); },
+      [&](const Span& sp, const DiffusionStats& acc) { out[static_cast<std::size_t>(sp.fold)].add(acc); },
+      progress);
+  for (auto& s : out) {
+    s.Gaug.triangularView<Eigen::StrictlyUpper>() = s.Gaug.transpose();
+    s.kron.triangularView<Eigen::StrictlyUpper>() = s.kron.transpose();
+  }
+  return out;
+}
+
+}  // namespace vehs::identify::detail

@@ -1,0 +1,119 @@
+#pragma once
+// Internal: identify's second streaming pass — residuals of the selected drift, the weighted
+// diffusion statistics per fold, the residual autocovariances (sampling diagnosis, sensor
+// noise) and, for the standard errors, the per-batch score matrices.
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "drift_pass.hpp"
+#include "streaming.hpp"
+#include "vehs/identify/regression.hpp"
+
+namespace vehs::identify::detail {
+
+/// Diffusion target of row j from residuals (r[j], r[j+k]) or raw accelerations; false when
+/// unavailable (the last k rows of a record for the noisy target).
+inline bool diffusion_target(Target t, const Kinematics& kin, const std::vector<double>& r,
+                             const std::vector<double>& raw, std::size_t j, std::size_t avail,
+                             double& z) {
+  switch (t) {
+    case Target::RawKM: z = raw[j] * raw[j] * kin.dt; return true;
+    case Target::Forward: z = r[j] * r[j] * kin.dt; return true;
+    case Target::Uli: z = 1.5 * kin.h * r[j] * r[j]; return true;
+    case Target::Noisy: {
+      const std::size_t jk = j + static_cast<std::size_t>(kin.k);
+      if (jk >= avail) return false;
+      z = (12.0 / 11.0) * kin.h * (r[j] * r[j] + 1.5 * r[j] * r[jk]);
+      return true;
+    }
+  }
+  return false;
+}
+
+/// WLS weight 1/max(a22, floor)² of the diffusion fit.
+struct DiffusionWeights {
+  bool weighted = false;
+  Eigen::VectorXd q;          // full ψ library
+  double floor = 1.0;  // lower bound of a22 in the weights
+};
+
+/// Global residual moments: Σr², Σ r_j r_{j+lag}, and the long-run sums Σ r_j Σ_{l=1..L} r_{j+l}.
+struct ResidualMoments {
+  double n = 0.0, r2 = 0.0, v2 = 0.0;
+  std::vector<double> lag_sum, lag_n;
+  double lr_sum = 0.0;  // Σ r_j Σ_{l=1..L} r_{j+l}
+  ResidualMoments() = default;
+  explicit ResidualMoments(std::size_t nlags) : lag_sum(nlags, 0.0), lag_n(nlags, 0.0) {}
+  void add(const ResidualMoments& o) {
+    n += o.n;
+    r2 += o.r2;
+    v2 += o.v2;
+    lr_sum += o.lr_sum;
+    for (std::size_t i = 0; i < lag_sum.size(); ++i) lag_sum[i] += o.lag_sum[i], lag_n[i] += o.lag_n[i];
+  }
+  double autocorrelation(std::size_t l) const {
+    return lag_n[l] > 0 && r2 > 0 ? (lag_sum[l] / lag_n[l]) / (r2 / n) : 0.0;
+  }
+  double autocovariance(std::size_t l) const { return lag_n[l] > 0 ? lag_sum[l] / lag_n[l] : 0.0; }
+  /// 1 + 2 Σ_{l=1..L} ρ_l
+  double long_run_factor() const { return r2 > 0 ? 1.0 + 2.0 * lr_sum / r2 : 1.0; }
+};
+
+/// Adds the moments of residuals r[0, len) (lags reaching into r[len, avail)) to `m`.
+void accumulate_moments(const std::vector<double>& r, std::size_t len, std::size_t avail,
+                        const std::vector<int>& lags, int lr_window, ResidualMoments& m);
+
+struct DiffusionSetup {
+  Target target = Target::Uli;
+  DriftModel dm;              // drift on its support S (residuals, drift scores)
+  DiffusionWeights w;
+  std::vector<int> lags;      // residual autocovariance lags (diagnostics)
+  // scores for the standard errors (off in the pilot)
+  bool scores = false;
+  bool ito = false;           // drift score has −½ ∂_vφ a22
+  bool noise = false;         // drift score has the sensor-noise corrections (∝ s²)
+  int block_rows = 1024;      // rows of a batch of the batch-means covariance (multiple of 256)
+};
+
+/// Width of the per-batch score matrix A_b: the stacked score of a batch is A_b·[1; q; s²]
+/// with q the diffusion coefficients (full ψ library) and s² the sensor-noise variance.
+inline int score_rows(const DiffusionSetup& ds, int P) { return ds.dm.phiS.size() + P; }
+inline int score_cols(int P) { return P + 2; }
+
+struct DiffusionStats {
+  Eigen::MatrixXd Gaug;  // (P+1)²: Σ w [ψ, z][ψ, z]ᵀ
+  double n = 0.0;
+  double zsum = 0.0;  // Σ z (unweighted)
+  ResidualMoments mom;
+  Eigen::MatrixXd kron;  // Σ_b vec(A_b) vec(A_b)ᵀ (lower triangle)
+  double batches = 0.0;
+  DiffusionStats() = default;
+  DiffusionStats(int P, std::size_t nlags, int kron_dim)
+      : Gaug(Eigen::MatrixXd::Zero(P + 1, P + 1)), mom(nlags), kron(Eigen::MatrixXd::Zero(kron_dim, kron_dim)) {}
+  void add(const DiffusionStats& o) {
+    Gaug += o.Gaug;
+    n += o.n;
+    zsum += o.zsum;
+    mom.add(o.mom);
+    kron += o.kron;
+    batches += o.batches;
+  }
+  QuadraticStats quadratic() const {
+    const Eigen::Index P = Gaug.rows() - 1;
+    QuadraticStats q(static_cast<int>(P));
+    q.G = Gaug.topLeftCorner(P, P);
+    q.b = Gaug.col(P).head(P);
+    q.c0 = Gaug(P, P);
+    q.n = n;
+    return q;
+  }
+};
+
+/// Diffusion statistics of every fold.
+std::vector<DiffusionStats> diffusion_pass(const Context& cx, const DiffusionSetup& ds,
+                                           const std::vector<Span>& spans, int folds,
+                                           vehs::detail::ProgressCounter* progress);
+
+}  // namespace vehs::identify::detail

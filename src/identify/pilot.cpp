@@ -1,0 +1,71 @@
+#include "pilot.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "long_run.hpp"
+#include "vehs/core/error.hpp"
+#include "vehs/identify/identify.hpp"
+
+namespace vehs::identify::detail {
+
+using Eigen::VectorXd;
+
+Pilot run_pilot(const Dataset& d, const Dictionary& phi, const Dictionary& psi, const Kinematics& kin,
+                Target target, std::size_t pilot_rows, const double* known) {
+  Pilot p;
+  p.k = kin.k;
+  p.central = kin.central;
+  p.target = target;
+  Context cx{d, phi, psi, kin};
+  cx.known = known;
+  const std::size_t per_record =
+      std::max<std::size_t>(2000 + 4 * static_cast<std::size_t>(kin.k), pilot_rows / d.records.size() + 1);
+  p.spans = make_spans(d, kin, 1, per_record);
+  p.drift = drift_pass(cx, kin.central, false, p.spans, 1, nullptr)[0];
+  require(p.drift.n > 0, "records too short for the pilot fit at stride " + std::to_string(kin.k));
+  p.v_sd = std::sqrt(p.drift.v2 / p.drift.n);
+  const std::vector<int> all = full_support(phi.size());
+  const SupportFit full = fit_support(drift_quadratic(p.drift, phi, DriftCorrection{}), all);
+  p.ds.target = target;
+  p.ds.dm = drift_model(phi, all, full_coefficients(full, phi.size()));
+  p.ds.lags = {1, kin.k, 2 * kin.k, 3 * kin.k};
+  const auto dd = diffusion_pass(cx, p.ds, p.spans, 1, nullptr);
+  const ResidualMoments& mo = dd[0].mom;
+  p.V = mo.r2 / mo.n;
+  p.rho_1 = mo.autocorrelation(0);
+  p.rho_k = mo.autocorrelation(1);
+  p.C2k = mo.autocovariance(2);
+  p.rho_2k = mo.autocorrelation(2);
+  p.C3k = mo.autocovariance(3);
+  p.rho_3k = mo.autocorrelation(3);
+  p.rows = mo.n;
+  p.noise_share = sampling_rule(p.rho_k, p.rho_2k, p.rho_3k, p.rows).noise_share;
+  p.q = full_coefficients(fit_support(dd[0].quadratic(), full_support(psi.size())), psi.size());
+  p.mean_z = dd[0].n > 0 ? dd[0].zsum / dd[0].n : 0.0;
+  return p;
+}
+
+void finish_pilot(Pilot& p, const Dataset& d, const Dictionary& phi, const Dictionary& psi,
+                  const Kinematics& kin, const double* known) {
+  Context cx{d, phi, psi, kin};
+  cx.known = known;
+  const std::vector<int> all = full_support(phi.size());
+  DriftCorrection corr;
+  corr.ito = kin.central;
+  corr.q = p.q;
+  DiffusionSetup ds = p.ds;
+  p.c = full_coefficients(fit_support(drift_quadratic(p.drift, phi, corr), all), phi.size());
+  ds.dm = drift_model(phi, all, p.c);
+  const int lr_r = kin.central ? 2 * kin.k + 1 : 2;
+  const int lr_e = kin.central ? 3 * kin.k + 1 : 2;
+  LongRun lr;
+  run_spans<LongRun>(
+      p.spans, [&] { return LongRun{}; },
+      [&](const Span& sp, LongRun& acc) { long_run_span(cx, ds, p.q, lr_r, lr_e, sp, acc); },
+      [&](const Span&, const LongRun& acc) { lr.add(acc); }, nullptr);
+  p.drift_lr = lr.r2 > 0 ? std::clamp(1.0 + 2.0 * lr.r_lr / lr.r2, 0.2, 20.0) : 1.0;
+  p.diffusion_lr = lr.e2 > 0 ? std::clamp(1.0 + 2.0 * lr.e_lr / lr.e2, 0.2, 20.0) : 1.0;
+}
+
+}  // namespace vehs::identify::detail

@@ -1,0 +1,356 @@
+#include "term_fit.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "diffusion_pass.hpp"
+#include "drift_pass.hpp"
+#include "pilot.hpp"
+#include "standard_errors.hpp"
+#include "vehs/core/error.hpp"
+
+namespace vehs::identify::detail {
+
+namespace {
+
+using Eigen::VectorXd;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr std::size_t kMinRecordSamples = 16;
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os.precision(4);
+  os << v;
+  return os.str();
+}
+
+// ---------------------------------------------------------------------------- dictionaries
+
+/// The libraries plus the terms of the requested term-like effects, which the selection keeps.
+struct Dictionaries {
+  Dictionary phi, psi;
+  std::vector<bool> keep_phi, keep_psi;
+  std::vector<std::string> phi_names, psi_names;
+};
+
+std::vector<Term> merged_terms(std::vector<Term> lib, const std::vector<Term>& add) {
+  for (const auto& t : add)
+    if (std::find(lib.begin(), lib.end(), t) == lib.end()) lib.push_back(t);
+  std::sort(lib.begin(), lib.end());
+  return lib;
+}
+
+std::vector<bool> keep_mask(const Dictionary& d, const std::vector<Term>& keep) {
+  std::vector<bool> m(static_cast<std::size_t>(d.size()), false);
+  for (int k = 0; k < d.size(); ++k)
+    m[static_cast<std::size_t>(k)] = std::find(keep.begin(), keep.end(), d.term(k)) != keep.end();
+  return m;
+}
+
+std::vector<std::string> term_names(const Dictionary& d) {
+  std::vector<std::string> n;
+  for (int k = 0; k < d.size(); ++k) n.push_back(d.name(k));
+  return n;
+}
+
+Dictionaries make_dictionaries(const Options& options) {
+  std::vector<Term> effect_drift, effect_diffusion;
+  for (const auto& e : options.effects) {
+    const EffectTerms t = unit_effect_terms(e.id);
+    for (const auto& tc : t.drift) effect_drift.push_back(tc.term);
+    for (const auto& tc : t.diffusion) effect_diffusion.push_back(tc.term);
+  }
+  Dictionaries d;
+  d.phi = Dictionary(merged_terms(options.drift_library, effect_drift));
+  d.psi = Dictionary(merged_terms(options.diffusion_library, effect_diffusion));
+  std::vector<Term> keep_d = options.keep_drift, keep_q = options.keep_diffusion;
+  keep_d.insert(keep_d.end(), effect_drift.begin(), effect_drift.end());
+  keep_q.insert(keep_q.end(), effect_diffusion.begin(), effect_diffusion.end());
+  d.keep_phi = keep_mask(d.phi, keep_d);
+  d.keep_psi = keep_mask(d.psi, keep_q);
+  d.phi_names = term_names(d.phi);
+  d.psi_names = term_names(d.psi);
+  return d;
+}
+
+// ------------------------------------------------------------------- estimator and stride
+
+/// The estimator: the requested one, or (auto) what the pilot's sampling diagnosis says.
+struct EstimatorDecision {
+  Estimator estimator = Estimator::Forward;
+  std::string reason = "requested";
+  SamplingVerdict verdict = SamplingVerdict::Unknown;
+};
+
+EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested) {
+  EstimatorDecision d;
+  d.estimator = requested;
+  const SamplingRule rule = sampling_rule(diag.rho_k, diag.rho_2k, diag.rho_3k, diag.rows);
+  d.verdict = rule.verdict;
+  if (requested != Estimator::Auto) return d;
+  if (rule.noisy) {
+    d.estimator = Estimator::Noisy;
+    d.reason = "white sensor noise makes up " + fmt(100 * rule.noise_share) +
+               " % of the variance of the ULI acceleration (lag-2k autocorrelation " + fmt(diag.rho_2k) +
+               " above lag-3k " + fmt(diag.rho_3k) + ")";
+  } else if (rule.continuous) {
+    d.estimator = Estimator::Uli;
+    d.reason = "ULI residuals have lag-1 autocorrelation " + fmt(diag.rho_k) +
+               " (about +1/4: a sensor sampling a continuous-time process)";
+  } else {
+    d.estimator = Estimator::Forward;
+    d.reason = "ULI residuals have lag-1 autocorrelation " + fmt(diag.rho_k) +
+               " (about 0: data from an explicit one-step scheme at the recorded step)";
+  }
+  return d;
+}
+
+/// What the pilots read from the data.
+struct PilotInputs {
+  const Dataset& data;
+  const Dictionaries& dict;
+  double dt;
+  std::size_t pilot_rows;
+  const double* known;
+  std::size_t min_size;  ///< samples of the shortest record
+
+  bool too_short(int k) const { return min_size < 4 * static_cast<std::size_t>(k) + kMinRecordSamples; }
+  Pilot run(int k, Target target, bool central = true) const {
+    return run_pilot(data, dict.phi, dict.psi, Kinematics(central, k, dt), target, pilot_rows, known);
+  }
+};
+
+/// The noisy estimator's stride: the noise share η_k = 6 (ρ_2k − ρ_3k) of â's variance falls with
+/// the stride as 1/(1 + α h³) (process part ∝ 1/h, noise part ∝ 1/h⁴): double k until η_k < goal,
+/// then solve for the stride with η = goal.
+Pilot noisy_stride_pilot(const PilotInputs& in, Pilot pilot, double goal) {
+  auto share = [](const Pilot& pl) { return std::clamp(pl.noise_share, 1e-6, 1.0 - 1e-6); };
+  int guard = 0;
+  while (share(pilot) >= goal && !in.too_short(2 * pilot.k) && guard++ < 20) pilot = in.run(2 * pilot.k, Target::Noisy);
+  const double eta = share(pilot);
+  if (eta < goal && pilot.k > 1) {
+    const double ratio = ((1.0 - goal) / goal) / ((1.0 - eta) / eta);  // (h*/h)³
+    const int next = std::clamp(static_cast<int>(std::lround(pilot.k * std::cbrt(ratio))), 1, pilot.k);
+    if (next != pilot.k) pilot = in.run(next, Target::Noisy);
+  }
+  return pilot;
+}
+
+// ----------------------------------------------------------------------- the diffusion pass
+
+/// Rows per batch of the batch-means covariance: long against the residual correlation range,
+/// and at least ~30 batches per estimated parameter (a multiple of the feature block).
+int score_batch_rows(const Options& options, bool central, int k, std::size_t rows, std::size_t params) {
+  const std::size_t corr_len = central ? 3 * static_cast<std::size_t>(k) : 2;
+  params = std::max<std::size_t>(1, params);
+  std::size_t L = options.se_block > 0 ? options.se_block : std::max<std::size_t>(1024, 50 * corr_len);
+  if (options.se_block == 0 && rows / L < 30 * params)
+    L = std::max<std::size_t>(10 * corr_len + 10, rows / (30 * params));
+  return static_cast<int>(std::max<std::size_t>(1, (L + kBlockRows / 2) / kBlockRows) * kBlockRows);
+}
+
+DiffusionSetup diffusion_setup(const Pilot& pilot, const DriftModel& dm, Estimator est, int k) {
+  const bool central = uses_central_kinematics(est);
+  DiffusionSetup ds;
+  ds.target = target_of(est);
+  ds.dm = dm;
+  ds.w.weighted = est != Estimator::Paper;
+  ds.w.q = pilot.q;
+  ds.w.floor = std::max(0.05 * std::abs(pilot.mean_z), 1e-300);
+  ds.lags = {1, 2, 3};
+  if (k > 3) ds.lags.push_back(k);
+  ds.lags.push_back(2 * k);
+  ds.lags.push_back(3 * k);  // the sensor-noise covariance is C(2k) − C(3k) (see sampling_rule)
+  ds.scores = true;
+  ds.ito = central;
+  ds.noise = est == Estimator::Noisy;
+  return ds;
+}
+
+/// The sensor-noise variance s² = (C(2k) − C(3k))·h⁴ and the drift corrections it implies.
+double set_sensor_noise(double C2k_minus_C3k, double h, DriftCorrection& corr) {
+  const double s2 = std::max(C2k_minus_C3k, 0.0) * h * h * h * h;
+  corr.var_v_noise = s2 / (2.0 * h * h);
+  corr.ax_cov = 2.0 * s2 / (h * h);
+  return s2;
+}
+
+QuadraticStats total_of(const std::vector<QuadraticStats>& v) {
+  QuadraticStats t = v[0];
+  for (std::size_t i = 1; i < v.size(); ++i) t += v[i];
+  return t;
+}
+
+std::vector<QuadraticStats> drift_folds(const std::vector<DriftStats>& stats, const Dictionary& phi,
+                                        const DriftCorrection& corr) {
+  std::vector<QuadraticStats> v;
+  for (const auto& s : stats) v.push_back(drift_quadratic(s, phi, corr));
+  return v;
+}
+
+const SupportFit& chosen_fit(const SelectionResult& s) { return s.path[static_cast<std::size_t>(s.chosen)]; }
+
+ResidualReport residual_report(const ResidualMoments& m, const DiffusionSetup& ds, const Pilot& pilot) {
+  ResidualReport rr;
+  rr.rows = m.n;
+  rr.rms = std::sqrt(m.r2 / std::max(m.n, 1.0));
+  for (std::size_t l = 0; l < ds.lags.size(); ++l) rr.autocorrelation.emplace_back(ds.lags[l], m.autocorrelation(l));
+  rr.expected_lag_k = ds.target == Target::Uli ? 0.25 : ds.target == Target::Noisy ? kNaN : 0.0;
+  rr.long_run_factor_drift = pilot.drift_lr;
+  rr.long_run_factor_diffusion = pilot.diffusion_lr;
+  return rr;
+}
+
+void add_terms(TermList& list, std::map<std::string, double>& stderr_, const Dictionary& d,
+               const std::vector<int>& support, const VectorXd& coef, const VectorXd& se, int se_offset,
+               const std::string& what) {
+  for (std::size_t i = 0; i < support.size(); ++i) {
+    const int t = support[i];
+    list.push_back({d.term(t), coef[t]});
+    stderr_[d.name(t)] = se[se_offset + static_cast<int>(i)];
+  }
+  canonicalize(list, what);
+}
+
+}  // namespace
+
+Result identify_terms(const Dataset& data, const Options& options) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const double* known = options.known_force ? options.known_force->data() : nullptr;
+  Dictionaries dict = make_dictionaries(options);
+  Dictionary& phi = dict.phi;
+  const Dictionary& psi = dict.psi;
+  Result res;
+  FitInfo& fit = res.model.fit.emplace();
+  Report& rep = res.report;
+  auto lap = [&, t = std::chrono::steady_clock::now()](const char* what) mutable {
+    const auto now = std::chrono::steady_clock::now();
+    rep.fit.timings.emplace_back(what, std::chrono::duration<double>(now - t).count());
+    t = now;
+  };
+
+  // ---- the records
+  require(!data.records.empty(), "no records to identify from");
+  if (phi.uses_u()) require(data.has_u(), "the drift library has the term 'u' but the data have no drive column u");
+  RecordChecks checks;
+  checks.min_samples = kMinRecordSamples;
+  checks.varying_x = true;
+  check_records(data, checks);
+  lap("validate");
+  const double dt = data.common_dt();
+  std::size_t min_size = data.records.front().size;
+  for (const auto& r : data.records) min_size = std::min(min_size, r.size);
+  const PilotInputs in{data, dict, dt, options.pilot_samples, known, min_size};
+
+  // ---- pilot at ULI stride 1 (or the requested stride): how were the data sampled?
+  int k = options.stride > 0 ? options.stride : 1;
+  if (in.too_short(k))
+    throw Error("records are too short for stride " + std::to_string(k) + " (the shortest has " +
+                std::to_string(min_size) + " samples, " + std::to_string(4 * k + static_cast<int>(kMinRecordSamples)) +
+                " needed)");
+  const Pilot diag = in.run(k, options.estimator == Estimator::Noisy ? Target::Noisy : Target::Uli);
+  const EstimatorDecision decision = choose_estimator(diag, options.estimator);
+  const Estimator est = decision.estimator;
+  const Target target = target_of(est);
+  const bool central = uses_central_kinematics(est);
+  Pilot pilot = diag;
+  if (est == Estimator::Noisy && options.stride == 0) pilot = noisy_stride_pilot(in, pilot, options.noise_share_target);
+  k = central ? pilot.k : 1;
+  const Kinematics kin(central, k, dt);
+  // the pilot in the final kinematics: weights of the diffusion fit, Itô correction for the
+  // drift selection, long-run variance factors of the BIC
+  if (!(pilot.central == kin.central && pilot.k == kin.k && pilot.target == target)) pilot = in.run(k, target, central);
+  finish_pilot(pilot, data, phi, psi, kin, known);
+  lap("pilot");
+  phi.set_sign_kernel_halfwidth(std::max(0.05 * pilot.v_sd, 1e-300));
+  fit.estimator = est;
+  fit.stride = k;
+  fit.sampling = {dt, diag.k, diag.rho_1, diag.rho_k, diag.rho_2k, diag.rho_3k, diag.noise_share, decision.verdict, 0.0};
+
+  const SsrRule rule = options.ssr_rule_set ? options.ssr_rule : est == Estimator::Paper ? SsrRule::AbsCoef : SsrRule::TRatio;
+  Context cx{data, phi, psi, kin};
+  cx.known = known;
+  const FourthDerivative jerk(phi.terms(), pilot.c, kin.h);
+  const bool h2_correction = central && options.discretization_correction;
+  if (h2_correction) cx.jerk = &jerk;
+  const int F = options.folds;
+  const auto spans = make_spans(data, kin, F, 0);
+  vehs::detail::ProgressCounter progress(options.progress, "identify", 3 * static_cast<long long>(spans.size()));
+
+  // ---- pass 1: drift statistics per fold, drift selection
+  const auto dstats = drift_pass(cx, central, est == Estimator::Noisy, spans, F, &progress);
+  DriftStats dtotal = dstats[0];
+  for (int f = 1; f < F; ++f) dtotal.add(dstats[static_cast<std::size_t>(f)]);
+  rep.fit.rows = static_cast<std::size_t>(dtotal.n);
+  lap("drift_pass");
+  rep.fit.drift_condition_full = require_well_conditioned(dtotal.Gaug.topLeftCorner(phi.size(), phi.size()),
+                                                          full_support(phi.size()), dict.phi_names, "the drift dictionary");
+  DriftCorrection corr;
+  corr.ito = central;
+  corr.q = pilot.q;
+  double s2 = est == Estimator::Noisy ? set_sensor_noise(pilot.C2k - pilot.C3k, kin.h, corr) : 0.0;
+  rep.drift_selection.dictionary = phi.terms();
+  rep.drift_selection.selection = select_sparse(drift_folds(dstats, phi, corr), full_support(phi.size()), dict.keep_phi,
+                                                options.sparsity, rule, options.criterion, options.stlsq_threshold,
+                                                pilot.drift_lr);
+  const std::vector<int> S = chosen_fit(rep.drift_selection.selection).support;
+
+  // ---- pass 2: residuals → weighted diffusion statistics per fold, diffusion selection
+  DiffusionSetup ds =
+      diffusion_setup(pilot, drift_model(phi, S, full_coefficients(chosen_fit(rep.drift_selection.selection), phi.size())), est, k);
+  ds.block_rows = score_batch_rows(options, central, k, rep.fit.rows, S.size() + static_cast<std::size_t>(psi.size()));
+  const auto qstats = diffusion_pass(cx, ds, spans, F, &progress);
+  lap("diffusion_pass");
+  ResidualMoments rtotal = qstats[0].mom;
+  for (int f = 1; f < F; ++f) rtotal.add(qstats[static_cast<std::size_t>(f)].mom);
+  if (est == Estimator::Noisy) {
+    s2 = set_sensor_noise(rtotal.autocovariance(ds.lags.size() - 2) - rtotal.autocovariance(ds.lags.size() - 1), kin.h, corr);
+    fit.sampling.sensor_noise_sd = std::sqrt(s2);
+  }
+  std::vector<QuadraticStats> qfolds;
+  for (const auto& s : qstats) qfolds.push_back(s.quadratic());
+  const QuadraticStats qtotal = total_of(qfolds);
+  const std::vector<int> allq = full_support(psi.size());
+  rep.fit.diffusion_condition_full = require_well_conditioned(qtotal.G, allq, dict.psi_names, "the diffusion dictionary");
+  rep.diffusion_selection.dictionary = psi.terms();
+  rep.diffusion_selection.selection = select_sparse(qfolds, allq, dict.keep_psi, options.sparsity, rule, options.criterion,
+                                                    options.stlsq_threshold, pilot.diffusion_lr);
+  const SupportFit& chosen_q = chosen_fit(rep.diffusion_selection.selection);
+  const std::vector<int> T = chosen_q.support;
+  const VectorXd q = full_coefficients(chosen_q, psi.size());
+
+  // ---- the drift again with the final diffusion (Itô correction) and noise level
+  corr.q = q;
+  const QuadraticStats drift_total = total_of(drift_folds(dstats, phi, corr));
+  const SupportFit cfit = fit_support(drift_total, S);
+  const VectorXd c = full_coefficients(cfit, phi.size());
+
+  // ---- standard errors at the final (q, s²), the model and the report
+  progress.finish();
+  const ScoreSums sums = score_sums(qstats);
+  const VectorXd se = term_standard_errors(sums, ds, phi, psi.size(), S, T, q, s2, drift_total.G, dtotal.ito, corr.ito,
+                                           qtotal.G);
+  Model& m = res.model;
+  add_terms(m.drift, m.drift_stderr, phi, S, c, se, 0, "identified drift");
+  add_terms(m.diffusion, m.diffusion_stderr, psi, T, q, se, static_cast<int>(S.size()), "identified diffusion");
+  rep.estimator = {options.estimator, decision.reason, h2_correction, rule};
+  rep.residuals = residual_report(rtotal, ds, pilot);
+  rep.sparsity = options.sparsity;
+  rep.criterion = options.criterion;
+  rep.folds = F;
+  rep.fit.drift_condition_selected = cfit.condition;
+  rep.fit.stderr_batches = sums.batches;
+  rep.fit.stderr_batch_rows = ds.block_rows;
+  if (!options.effects.empty()) rep.effect_params = effect_parameters(m, options.effects);
+  rep.fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  return res;
+}
+
+}  // namespace vehs::identify::detail
