@@ -1,0 +1,293 @@
+// identify with dynamic forces: rounds of (profile search of θ on the baseline support, the
+// joint fit with sandwich standard errors, the term fit on the target corrected by the fitted
+// force) until the support and estimator settle.
+#include "profile_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "profile_problem.hpp"
+#include "profile_search.hpp"
+#include "term_fit.hpp"
+#include "vehs/core/error.hpp"
+#include "vehs/identify/dynamic.hpp"
+
+namespace vehs::identify::detail {
+
+namespace {
+
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os.precision(5);
+  os << v;
+  return os.str();
+}
+
+struct FitOut {
+  VectorXd z;        // (c, β) at θ̂
+  MatrixXd cov;      // of (c, β, θ_free)
+  double contrast = 0.0, rows = 0.0;
+  std::vector<double> beyond;  // impact: samples beyond each gap
+  std::vector<std::string> term_names;  // drift terms of the engine (first K of z)
+};
+
+/// Coefficients at θ̂ and the sandwich covariance of (c, β, θ_free).
+FitOut finish_fit(Problem& P) {
+  FitOut out;
+  auto th = P.thetas();
+  P.set_noise_cov(th);
+  const Moments M = moments(P, th);
+  out.contrast = profile_contrast(M, &out.z);
+  require(std::isfinite(out.contrast),
+          "dynamic effects: the regression is degenerate at the fitted parameters (no signal of the effect)");
+  out.rows = M.n;
+  const int K = P.K(), C = P.C();
+  for (int j = 0; j < K; ++j) out.term_names.push_back(P.phi.name(j));
+  int col = K;
+  for (auto& c : P.comps) {
+    c.beta = out.z.segment(col, c.ncols());
+    col += c.ncols();
+  }
+  const auto free_th = P.free_theta();
+  const int T = static_cast<int>(free_th.size());
+  const int p = K + C + T;
+  // batch length: long against the residual correlation, ≥ 30 batches per parameter
+  const std::size_t corr_len = P.central ? 3 * static_cast<std::size_t>(P.k) : 2;
+  // The scores of the dynamic parameters are correlated over the slow time scales of the
+  // motion (hidden-state memory 1/λ, well hopping): batches as long as ~40 per parameter allow
+  // (at least 1024 rows), not just beyond the residual correlation.
+  std::size_t L = std::max<std::size_t>({1024, 50 * corr_len, static_cast<std::size_t>(M.n / (40.0 * p))});
+  if (M.n / static_cast<double>(L) < 30.0 * p)
+    L = std::max<std::size_t>(10 * corr_len + 10, static_cast<std::size_t>(M.n / (30.0 * p)));
+  const std::size_t R = P.data.records.size();
+  std::vector<MatrixXd> Jr(R), Om(R);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (long rl = 0; rl < static_cast<long>(R); ++rl) {
+    const std::size_t r = static_cast<std::size_t>(rl);
+    const Record& rec = P.data.records[r];
+    const std::size_t n = rec.size;
+    MatrixXd& J = Jr[r];
+    MatrixXd& O = Om[r];
+    J = MatrixXd::Zero(p, p);
+    O = MatrixXd::Zero(p, p);
+    MatrixXd cols;
+    VectorXd off;
+    P.record_columns(th, r, cols, off);
+    // g = ∂f/∂θ by central differences of the force Σ β·col + off
+    MatrixXd g(static_cast<Index>(n), T);
+    for (int j = 0; j < T; ++j) {
+      const auto [ci, s] = free_th[static_cast<std::size_t>(j)];
+      const double v = th[static_cast<std::size_t>(ci)][static_cast<std::size_t>(s)];
+      const double d = 1e-6 * std::max(std::abs(v), 1e-6);
+      VectorXd fp, fm;
+      for (int sgn = -1; sgn <= 1; sgn += 2) {
+        auto t2 = th;
+        t2[static_cast<std::size_t>(ci)][static_cast<std::size_t>(s)] = v + sgn * d;
+        MatrixXd c2;
+        VectorXd o2;
+        P.record_columns(t2, r, c2, o2);
+        VectorXd fcur = o2 + c2 * out.z.segment(K, C);
+        (sgn < 0 ? fm : fp) = fcur;
+      }
+      g.col(j) = (fp - fm) / (2.0 * d);
+    }
+    Problem::Rows rw;
+    BlockEval be;
+    VectorXd batch = VectorXd::Zero(p);
+    std::size_t in_batch = 0;
+    MatrixXd Zg(kBlockRows, p);
+    for (const auto& sp : spans_of(P, r))
+      for (std::size_t i = sp.begin; i < sp.end; i += kBlockRows) {
+        P.load(rec, i, sp.end, rw);
+        be.run(P, rw, cols, off);
+        const int m = rw.m;
+        Zg.leftCols(K + C) = be.Z;
+        for (int j = 0; j < T; ++j)
+          for (int c = 0; c < m; ++c) Zg(c, K + C + j) = g(static_cast<Index>(rw.first) + c, j);
+        const auto Zm = Zg.topRows(m);
+        J.noalias() += Zm.transpose() * Zm;
+        const VectorXd res = be.t.head(m) - be.Z.topRows(m) * out.z;
+        VectorXd sc = Zm.transpose() * res;
+        VectorXd ito = VectorXd::Zero(K + C);
+        be.add_ito(P, rw, ito);  // ito = −½ Σ a22 ∂_vφ
+        sc.head(K + C) += ito;
+        batch += sc;
+        in_batch += static_cast<std::size_t>(m);
+        if (in_batch >= L) {
+          O.noalias() += batch * batch.transpose();
+          batch.setZero();
+          in_batch = 0;
+        }
+      }
+    if (in_batch > 0) O.noalias() += batch * batch.transpose();
+  }
+  MatrixXd J = MatrixXd::Zero(p, p), O = MatrixXd::Zero(p, p);
+  for (std::size_t r = 0; r < R; ++r) J += Jr[r], O += Om[r];
+  const MatrixXd Ji = J.fullPivLu().inverse();
+  out.cov = Ji * O * Ji.transpose();
+  // impact: samples beyond the gaps
+  for (const auto& c : P.comps)
+    if (c.id == EffectId::ImpactStop) {
+      double np = 0, nn = 0;
+      for (const auto& rec : P.data.records) {
+        const double* x = P.data.x_of(rec);
+        for (std::size_t i = 0; i < rec.size; ++i) np += x[i] > c.theta[0], nn += x[i] < -c.theta[1];
+      }
+      out.beyond = {np, nn};
+    }
+  return out;
+}
+
+double sd(const MatrixXd& cov, int i) { return cov(i, i) > 0 ? std::sqrt(cov(i, i)) : std::numeric_limits<double>::quiet_NaN(); }
+
+/// Physical parameters and standard errors of every component.
+std::vector<Effect> effects_of(const Problem& P, const FitOut& f) {
+  std::vector<Effect> out;
+  const int K = P.K(), C = P.C();
+  const auto free_th = P.free_theta();
+  int col = K;
+  for (std::size_t ci = 0; ci < P.comps.size(); ++ci) {
+    const Component& c = P.comps[ci];
+    Effect e;
+    e.id = c.id;
+    e.params = c.given.params;
+    for (std::size_t s = 0; s < c.theta.size(); ++s) {
+      e.params[c.theta_names[s]] = c.theta[s];
+      for (std::size_t j = 0; j < free_th.size(); ++j)
+        if (free_th[j].first == static_cast<int>(ci) && free_th[j].second == static_cast<int>(s))
+          e.stderr_[c.theta_names[s]] = sd(f.cov, K + C + static_cast<int>(j));
+    }
+    if (c.id == EffectId::HarmonicForcing && c.ncols() == 2) {
+      const double A = c.beta[0], B = c.beta[1];
+      const double R = std::hypot(A, B);
+      e.params["amplitude"] = R;
+      e.params["phase"] = std::atan2(-B, A);
+      // delta method: ∂R = (A, B)/R, ∂φ = (B, −A)/R²
+      const Eigen::Matrix2d S = f.cov.block(col, col, 2, 2);
+      const Eigen::Vector2d gR(A / R, B / R), gP(B / (R * R), -A / (R * R));
+      e.stderr_["amplitude"] = std::sqrt(std::max(gR.dot(S * gR), 0.0));
+      e.stderr_["phase"] = std::sqrt(std::max(gP.dot(S * gP), 0.0));
+    } else {
+      for (int j = 0; j < c.ncols(); ++j) {
+        e.params[c.beta_names[static_cast<std::size_t>(j)]] = c.beta[j];
+        e.stderr_[c.beta_names[static_cast<std::size_t>(j)]] = sd(f.cov, col + j);
+      }
+    }
+    col += c.ncols();
+    if (c.id == EffectId::ImpactStop)
+      require(e.params["k_stop"] > 0.0, "impact_stop: the fitted k_stop is " + fmt(e.params["k_stop"]) +
+                                            " (not > 0): the data show no stops");
+    if (c.id == EffectId::ElectromechanicalCoupling)
+      require(e.params["coupling"] >= 0.0, "electromechanical_coupling: the fitted coupling is " +
+                                               fmt(e.params["coupling"]) + " (< 0): no coupling in the data");
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+}  // namespace
+
+Result identify_profile(const Dataset& data, const Options& options) {
+  Options base = options;
+  base.effects.clear();
+  std::vector<Effect> dyn;
+  for (const auto& e : options.effects) {
+    if (!is_dynamic(e.id)) {
+      base.effects.push_back(e);
+      continue;
+    }
+    for (const auto& d : dyn)
+      require(d.id != e.id, "effect '" + e.name() + "' is listed twice");
+    dyn.push_back(e);
+  }
+  std::vector<Component> comps;
+  for (const auto& e : dyn) comps.push_back(make_component(e));
+
+  Result cur = identify_terms(data, base);
+  ProfileFitReport info;
+  std::vector<Effect> fitted;
+  FitOut fit;
+  std::vector<double> force(data.x.size(), 0.0);
+  Result next;
+  // the full drift library (with the terms of term-like effects): the first profile fit runs on
+  // all of it, because a selection made without the dynamic effect can have absorbed it (high
+  // powers of x standing in for the stops); later rounds use identify's selection made with the
+  // fitted dynamic force subtracted
+  std::vector<Term> full = options.drift_library;
+  for (const auto& e : base.effects)
+    for (const auto& tc : unit_effect_terms(e.id).drift)
+      if (std::find(full.begin(), full.end(), tc.term) == full.end()) full.push_back(tc.term);
+  for (int round = 0; round < 3; ++round) {
+    Problem P(data);
+    const FitInfo& cur_fit = *cur.model.fit;
+    P.central = uses_central_kinematics(cur_fit.estimator);
+    P.k = P.central ? cur_fit.stride : 1;
+    P.dt = data.common_dt();
+    P.h = P.central ? P.k * P.dt : P.dt;
+    P.lead = P.central ? static_cast<std::size_t>(P.k) : 0;
+    P.trail = P.central ? static_cast<std::size_t>(P.k) : 2;
+    const std::vector<Term> support = round == 0 ? full : terms_of(cur.model.drift);
+    P.phi = Dictionary(support);
+    P.psi = Dictionary(terms_of(cur.model.diffusion));
+    P.q = VectorXd(P.psi.size());
+    for (int j = 0; j < P.psi.size(); ++j) P.q[j] = cur.model.diffusion[static_cast<std::size_t>(j)].coef;
+    {
+      double v2 = 0, nv = 0;
+      for (const auto& rec : data.records) {
+        const double* x = data.x_of(rec);
+        for (std::size_t i = P.lead; i + P.trail < rec.size; i += 8) {
+          const double v = P.central ? (x[i + P.lead] - x[i - P.lead]) / (2 * P.h) : (x[i + 1] - x[i]) / P.dt;
+          v2 += v * v, nv += 1;
+        }
+      }
+      P.phi.set_sign_kernel_halfwidth(std::max(0.05 * std::sqrt(v2 / std::max(nv, 1.0)), 1e-300));
+    }
+    P.comps = comps;
+    P.base = std::make_shared<const BaseMoments>(base_moments(P));
+    P.c_base = P.base->G.ldlt().solve(P.base->b);  // baseline drift without the dynamic effects
+    search_theta(P, info, round > 0);
+    comps = P.comps;  // warm start of the next round
+    fit = finish_fit(P);
+    fitted = effects_of(P, fit);
+    info.rounds.push_back({cur_fit.estimator, P.k, terms_of(cur.model.drift), fitted, fit.contrast});
+    for (const auto& rec : data.records) {
+      std::vector<double> f;
+      dynamic_force(fitted, data, rec, f, P.central ? P.k : 0);
+      std::copy(f.begin(), f.end(), force.begin() + static_cast<long>(rec.offset));
+    }
+    Options o2 = base;
+    o2.known_force = &force;
+    next = identify_terms(data, o2);
+    const bool same = terms_of(next.model.drift) == support && next.model.fit->estimator == cur_fit.estimator &&
+                      next.model.fit->stride == cur_fit.stride;
+    cur = next;
+    if (same) break;
+  }
+  Result res = std::move(cur);
+  res.model.effects = fitted;
+  // drift-term standard errors: the larger of identify's (conditional on the dynamic force, with
+  // the diffusion coupling of the Itô correction) and the joint one of the profile fit (which
+  // carries the uncertainty of the effect's parameters — e.g. damping vs electromechanical
+  // coupling are strongly correlated)
+  for (std::size_t j = 0; j < fit.term_names.size(); ++j) {
+    auto it = res.model.drift_stderr.find(fit.term_names[j]);
+    if (it == res.model.drift_stderr.end()) continue;
+    const double joint = sd(fit.cov, static_cast<int>(j));
+    if (std::isfinite(joint)) it->second = std::max(it->second, joint);
+  }
+  info.effects = fitted;
+  info.profile_contrast = fit.contrast;
+  info.rows = fit.rows;
+  if (!fit.beyond.empty()) info.samples_beyond_gap = std::array<double, 2>{fit.beyond[0], fit.beyond[1]};
+  res.report.profile = std::move(info);
+  res.report.effect_params.insert(res.report.effect_params.end(), fitted.begin(), fitted.end());
+  return res;
+}
+
+}  // namespace vehs::identify::detail
