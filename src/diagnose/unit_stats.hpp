@@ -95,6 +95,13 @@ struct UnitStats {
   void add(const UnitStats& o);
 };
 
+/// Rows of a unit's statistics (the sum of its coarse-cell counts).
+inline double rows_of(const UnitStats& s) {
+  double n = 0.0;
+  for (double c : s.cells) n += c;
+  return n;
+}
+
 /// Statistics of one unit of a record (x, optional drive u, t0 of the record). With
 /// `stationary_only` only the occupation, moment, well, residual-shape and x-spectrum statistics
 /// are computed (no one-step map, residual spectra, histograms or ACFs) — for the

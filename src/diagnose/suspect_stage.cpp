@@ -1,0 +1,147 @@
+// The suspects stage of a diagnosis (suspects.hpp): ranking the catalogue effects the model lacks
+// by held-out evidence, the suspects' own test, and the confirmation of close contenders by
+// refits compared with their twins.
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <optional>
+
+#include "comparison.hpp"
+#include "unit_math.hpp"
+#include "vehs/diagnose/distributions.hpp"
+#include "vehs/identify/identify.hpp"
+
+namespace vehs::diagnose::detail {
+
+std::optional<Dataset> add_suspects(const Model& model, const Dataset& data, const Options& opt, Result& res,
+                                    Stopwatch& watch) {
+  const Lens& lens = res.lens;
+  Dataset sub;  // the suspects' data when limited by suspect_samples
+  bool limited = false;
+  SuspectOptions suspect_options = opt.suspects;
+  suspect_options.progress = opt.progress;
+  {
+    if (opt.suspect_samples > 0.0 && static_cast<double>(data.total_samples()) > opt.suspect_samples) {
+      // whole records, in order, up to suspect_samples samples (at least min_blocks records)
+      limited = true;
+      sub = leading_samples(data, [&](std::size_t i, const Record& r, std::size_t taken) {
+        const bool full = static_cast<double>(taken + r.size) > opt.suspect_samples &&
+                          i >= static_cast<std::size_t>(opt.suspects.min_blocks);
+        return full ? kEndSelection : r.size;
+      });
+      res.suspects = rank_suspects(model, sub, lens, suspect_options);
+      res.suspects.note += (res.suspects.note.empty() ? "" : " ") + std::string("suspects fitted on the first ") +
+                           std::to_string(sub.records.size()) + " of " + std::to_string(data.records.size()) +
+                           " records (" + std::to_string(sub.x.size()) + " samples; suspect_samples)";
+    } else {
+      res.suspects = rank_suspects(model, data, lens, suspect_options);
+    }
+    watch.lap(res, "suspects");
+  }
+  // ... are also a test of the model: each is a held-out likelihood comparison with a larger model
+  // (a named alternative). The largest held-out z over the tested effects, referred to the
+  // one-sided t law with blocks − 1 degrees of freedom, Bonferroni over the effects.
+  if (res.suspects.blocks >= 3) {
+    double zmax = -std::numeric_limits<double>::infinity();
+    std::string which;
+    int tested = 0;
+    for (const auto& sp : res.suspects.ranked)
+      if (std::isfinite(sp.z) && std::isfinite(sp.evidence)) {
+        ++tested;
+        if (sp.z > zmax) zmax = sp.z, which = sp.effect;
+      }
+    Component c{"suspects", "largest held-out evidence for a catalogue effect the model lacks (named alternatives)",
+                TestResult{}};
+    if (tested > 0) {
+      const double nu = res.suspects.blocks - 1.0;
+      const double p1 = zmax > 0 ? 0.5 * t_sf_two_sided(zmax, nu) : 1.0 - 0.5 * t_sf_two_sided(zmax, nu);
+      TestResult& t = c.test;
+      t.available = true;
+      t.units = res.suspects.blocks;
+      t.statistic = zmax;
+      t.dof = 1.0;
+      t.p_value = std::min(1.0, p1 * tested);
+      t.chi2 = chi2_equivalent(t.p_value, 1.0, zmax * zmax);
+      t.method = "largest held-out z = " + fmt(zmax) + " (" + which + ") over " + std::to_string(tested) +
+                 " tested effects, one-sided t(" + fmt(nu) + "), Bonferroni";
+      finish_excess(t);
+    } else {
+      c.test.note = "no effect could be tested";
+    }
+    res.components.push_back(c);
+  }
+  if (!limited) return std::nullopt;
+  return sub;
+}
+
+void confirm_contenders(const Model& model, const Dataset& data, const Lens& lens, const Options& opt,
+                        SuspectReport& rep) {
+  auto& ranked = rep.ranked;
+  auto method = [](const std::string& effect) {
+    return suspect_method(enum_from_string(kEffectNames, effect, "suspect"));
+  };
+  auto contender = [&](const std::string& effect) {
+    const SuspectMethod m = method(effect);
+    return m == SuspectMethod::DynamicForce || m == SuspectMethod::ColoredExcitation;
+  };
+  if (ranked.empty() || !ranked[0].held_out_significant || !contender(ranked[0].effect)) return;
+  // paired z of the leader's gain over suspect i's, block by block (infinite: not comparable)
+  auto paired_z = [&](std::size_t i) {
+    const auto& a = ranked[0].block_gain;
+    const auto& b = ranked[i].block_gain;
+    if (i == 0) return 0.0;
+    if (a.size() != b.size() || a.size() < 2) return std::numeric_limits<double>::infinity();
+    std::vector<double> diff(a.size());
+    for (std::size_t k = 0; k < a.size(); ++k) diff[k] = a[k] - b[k];
+    return block_z(diff);
+  };
+  std::vector<std::size_t> order;  // forces by evidence, colored_noise last
+  long colored = -1;
+  for (std::size_t i = 0; i < ranked.size(); ++i)
+    if (std::isfinite(ranked[i].evidence) && ranked[i].evidence > 0.0 && contender(ranked[i].effect) &&
+        paired_z(i) < 2.0) {
+      if (method(ranked[i].effect) == SuspectMethod::ColoredExcitation) colored = static_cast<long>(i);
+      else order.push_back(i);
+    }
+  if (colored < 0 || order.empty()) return;
+  order.push_back(static_cast<std::size_t>(colored));
+  Options sub = opt;
+  sub.suspects.enabled = false;
+  sub.progress = nullptr;
+  std::string tried;
+  for (const std::size_t i : order) {
+    Suspect& sp = ranked[i];
+    identify::Options io = refit_options(model, lens);
+    Effect e;
+    e.id = enum_from_string(kEffectNames, sp.effect, "suspect");
+    io.effects.push_back(e);
+    try {
+      // the refit against its own twins (no suspects: they are what is being decided)
+      Stopwatch watch;
+      Result r = compare_with_twins(identify::identify(data, io).model, data, sub, watch);
+      finish_verdict(r, sub.alpha);
+      sp.refit_verdict = r.verdict;
+      sp.refit_score = r.score;
+    } catch (const std::exception& ex) {
+      sp.refit_verdict = std::string("refit failed: ") + ex.what();
+    }
+    tried += (tried.empty() ? "" : ", ") + sp.effect + " " +
+             (std::isfinite(sp.refit_score) ? sp.refit_verdict + " (score " + fmt(sp.refit_score) + ")" : sp.refit_verdict);
+    if (sp.refit_verdict == "adequate") {
+      if (i != 0) {
+        Suspect moved = sp;
+        ranked.erase(ranked.begin() + static_cast<long>(i));
+        ranked.insert(ranked.begin(), std::move(moved));
+      }
+      break;
+    }
+  }
+  rep.note += (rep.note.empty() ? "" : " ") +
+              std::string("colored_noise and a deterministic dynamic force explain the held-out rows about equally well; "
+                          "refits with them "
+                          "(forces first, colored_noise last; the first adequate one is ranked first): ") +
+              tried + ".";
+}
+
+}  // namespace vehs::diagnose::detail
