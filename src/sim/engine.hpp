@@ -30,8 +30,8 @@
 #include "vehs/core/dataset.hpp"
 #include "vehs/sim/random.hpp"
 #include "vehs/sim/simulate.hpp"
+#include "vehs/sim/detail/model_system.hpp"
 #include "vehs/sim/steppers.hpp"
-#include "vehs/sim/system.hpp"
 
 #if defined(__GNUC__)
 #define VEHS_SIM_FLATTEN __attribute__((flatten))

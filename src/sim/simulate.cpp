@@ -14,6 +14,9 @@
 
 namespace vehs::sim {
 
+using detail::CompiledModel;
+using detail::XPolynomial;
+
 namespace {
 
 std::string num(double v) {

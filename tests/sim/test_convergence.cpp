@@ -13,9 +13,12 @@
 #include "vehs/sim/random.hpp"
 #include "vehs/sim/simulate.hpp"
 #include "vehs/sim/steppers.hpp"
-#include "vehs/sim/system.hpp"
+#include "vehs/sim/detail/model_system.hpp"
 
 using namespace vehs::sim;
+using vehs::sim::detail::CompiledModel;
+using vehs::sim::detail::ModelSystem;
+using vehs::sim::detail::PolynomialSystem;
 
 namespace {
 

@@ -1,5 +1,8 @@
 #pragma once
-// The model SDE as a "mechanical system" for the steppers of steppers.hpp.
+// Internal: the harvester model SDE as a mechanical system for the steppers of
+// vehs/sim/steppers.hpp, compiled once from a vehs::Model (CompiledModel), in two forms: the
+// general ModelSystem (any terms, every dynamic effect) and the compile-time-shaped
+// PolynomialSystem for the paper's polynomial family (the simulator's fast path).
 //
 // State (one column per component, one row per SIMD lane = one record):
 //     column 0: x (displacement), 1: y (velocity),
@@ -15,20 +18,10 @@
 // the constant amplitude sqrt(intensity)/τ. σ never depends on v, η or t, and the η noise is
 // additive, so all mixed multiple Itô integrals of the order-1.5 scheme vanish (see steppers.hpp).
 //
-// The system concept used by every stepper (S a ModelSystem, V = S::Lanes, X = S::State):
-//     S::lanes, S::dim, S::noises                         compile-time sizes
-//     void drift(double t, const X& s, X& f) const         full vector field (ẋ = y first)
-//     void noise(const X& s, Noise& g) const               amplitude of source k in g.col(k)
-//     static int noise_component(int k)                    component driven by source k
-//     double linear_damping() const                        β = −drift["y"] (BAOAB's O step)
-//     V force_nl(double t, const X& s) const               b2 + β·y (BAOAB's B step)
-//     V sigma(const X& s) const                            sqrt(a22)
-//     void hidden_half_flow(X& s, double h) const          exact flow of v for y frozen
-//     void colored_exact(X& s, double h, const V& xi) const  exact OU step of η
-//     Jet jet(double t, const X& s) const                  derivatives for the Taylor scheme
-// Time t is common to all lanes (records run in lockstep). A recorded drive u is held
-// constant over each recorded interval (zero-order hold, like a DAC) and set per interval with
-// set_drive().
+// Both systems model the mechanical-system concept of steppers.hpp (lanes: L records advanced
+// in lockstep, V = Lanes); v and η are its linear hidden states (LinearHidden). Time t is
+// common to all lanes. A recorded drive u is held constant over each recorded interval
+// (zero-order hold, like a DAC) and set per interval with set_drive().
 //
 // a22 < 0 anywhere makes σ = NaN; the simulator catches that as a non-finite state (the
 // configuration checks reject models whose a22 is negative in the region of interest).
@@ -40,14 +33,9 @@
 #include <Eigen/Core>
 
 #include "vehs/core/model.hpp"
+#include "vehs/sim/steppers.hpp"
 
-#if defined(__GNUC__)
-#define VEHS_SIM_INLINE inline __attribute__((always_inline))
-#else
-#define VEHS_SIM_INLINE inline
-#endif
-
-namespace vehs::sim {
+namespace vehs::sim::detail {
 
 /// A polynomial Σ c_n xⁿ, evaluated by Horner's rule in x² on its even and odd parts
 /// (halves the dependency chain of odd or even potentials).
@@ -169,13 +157,6 @@ struct CompiledModel {
   double colored_stationary_sd() const { return colored ? std::sqrt(intensity / (2.0 * tau)) : 0.0; }
 };
 
-/// Derivatives needed by the order-1.5 Itô–Taylor scheme, per lane.
-template <class V>
-struct Jet {
-  V b2, b2_x, b2_y, b2_yy, b2_t;        ///< drift of y and its partial derivatives
-  V sigma, sigma_x, sigma_y, sigma_yy;  ///< σ = sqrt(a22) and its partial derivatives
-};
-
 /// The general system: any term list and every dynamic effect, evaluated with run-time
 /// dispatch (it need not be as fast as PolynomialSystem; it is compiled with ordinary inlining
 /// to keep build times down).
@@ -190,15 +171,39 @@ class ModelSystem {
   static constexpr int noises = kColored ? 2 : 1;
   static constexpr bool has_electro = kElectro;
   static constexpr bool has_colored = kColored;
+  static constexpr int hidden = (kElectro ? 1 : 0) + (kColored ? 1 : 0);
   using Lanes = Eigen::Array<double, L, 1>;
   using State = Eigen::Array<double, L, dim>;
   using Noise = Eigen::Array<double, L, noises>;
 
-  explicit ModelSystem(const CompiledModel& m) : m_(m), u_(Lanes::Zero()) {}
+  /// Copies what it needs of `m` (a system never refers to a model that may go away).
+  explicit ModelSystem(const CompiledModel& m) : m_(m), u_(Lanes::Zero()) {
+    int i = 0;
+    if constexpr (kElectro) {
+      LinearHidden& v = hidden_[i++];
+      v.index = electro_index;
+      v.a_y = 1.0;
+      v.c = -m_.coupling;
+      v.by_rate = true;
+      v.rate = m_.lambda;
+    }
+    if constexpr (kColored) {
+      LinearHidden& eta = hidden_[i++];
+      eta.index = colored_index;
+      eta.c = 1.0;
+      eta.n = std::sqrt(m_.intensity) / m_.tau;
+      eta.noise_source = 1;
+      eta.stationary_variance = m_.intensity / (2.0 * m_.tau);
+      eta.by_rate = false;
+      eta.time_constant = m_.tau;
+    }
+    (void)i;
+  }
 
-  const CompiledModel& model() const { return m_; }
   /// Drive values of the current recorded interval, one per lane.
   void set_drive(const Lanes& u) { u_ = u; }
+  LinearHidden hidden_state(int i) const { return hidden_[static_cast<std::size_t>(i)]; }
+  bool noise_depends_on_y() const { return m_.noise_depends_on_y; }
 
   static constexpr int noise_component(int k) { return k == 0 ? 1 : colored_index; }
 
@@ -234,33 +239,8 @@ class ModelSystem {
   /// b2 + β·y: the force BAOAB applies in its kicks.
   Lanes force_nl(double t, const State& s) const { return b2(t, s) + m_.beta * s.col(1); }
 
-  /// Exact flow of the electromechanical state over time h with y frozen.
-  void hidden_half_flow(State& s, double h) const {
-    if constexpr (kElectro) {
-      const double decay = std::exp(-m_.lambda * h);
-      const double gain = -std::expm1(-m_.lambda * h) / m_.lambda;
-      s.col(electro_index) = decay * s.col(electro_index) + gain * s.col(1);
-    } else {
-      (void)s;
-      (void)h;
-    }
-  }
-
-  /// Exact Ornstein–Uhlenbeck step of η over time h with the standard normal xi.
-  void colored_exact(State& s, double h, const Lanes& xi) const {
-    if constexpr (kColored) {
-      const double decay = std::exp(-h / m_.tau);
-      const double sd = std::sqrt(m_.intensity / (2.0 * m_.tau) * -std::expm1(-2.0 * h / m_.tau));
-      s.col(colored_index) = decay * s.col(colored_index) + sd * xi;
-    } else {
-      (void)s;
-      (void)h;
-      (void)xi;
-    }
-  }
-
-  Jet<Lanes> jet(double t, const State& s) const {
-    Jet<Lanes> j;
+  TaylorDerivatives<Lanes> derivatives(double t, const State& s) const {
+    TaylorDerivatives<Lanes> j;
     const Lanes x = s.col(0), y = s.col(1);
     const Lanes x2 = x * x;
     j.b2 = poly_y(m_.drift, x, x2, y);
@@ -325,8 +305,9 @@ class ModelSystem {
     (void)t;
   }
 
-  const CompiledModel& m_;
+  CompiledModel m_;
   Lanes u_;
+  std::array<LinearHidden, 2> hidden_{};
 };
 
 /// The fast system for the polynomial family (CompiledModel::Fast): the same concept as
@@ -344,13 +325,15 @@ class PolynomialSystem {
   static constexpr int noises = 1;
   static constexpr bool has_electro = false;
   static constexpr bool has_colored = false;
+  static constexpr int hidden = 0;
   using Lanes = Eigen::Array<double, L, 1>;
   using State = Eigen::Array<double, L, 2>;
   using Noise = Eigen::Array<double, L, 1>;
 
-  explicit PolynomialSystem(const CompiledModel& m) : m_(&m), f_(m.fast) {}
-  const CompiledModel& model() const { return *m_; }
+  explicit PolynomialSystem(const CompiledModel& m) : f_(m.fast) {}
   void set_drive(const Lanes&) {}
+  LinearHidden hidden_state(int) const { return {}; }
+  static constexpr bool noise_depends_on_y() { return false; }
   static constexpr int noise_component(int) { return 1; }
 
   template <std::size_t N>
@@ -391,11 +374,8 @@ class PolynomialSystem {
   VEHS_SIM_INLINE void noise(const State& s, Noise& g) const { g.col(0) = sigma(s); }
   double linear_damping() const { return -f_.damping[0]; }
   VEHS_SIM_INLINE Lanes force_nl(double t, const State& s) const { return b2(t, s) - f_.damping[0] * s.col(1); }
-  void hidden_half_flow(State&, double) const {}
-  void colored_exact(State&, double, const Lanes&) const {}
-
-  VEHS_SIM_INLINE Jet<Lanes> jet(double, const State& s) const {
-    Jet<Lanes> j;
+  VEHS_SIM_INLINE TaylorDerivatives<Lanes> derivatives(double, const State& s) const {
+    TaylorDerivatives<Lanes> j;
     const Lanes x = s.col(0), y = s.col(1);
     const Lanes x2 = x * x;
     const Lanes c = damping(x);
@@ -413,8 +393,7 @@ class PolynomialSystem {
   }
 
  private:
-  const CompiledModel* m_;
   CompiledModel::Fast f_;  ///< by value: a local copy of the system keeps them in registers
 };
 
-}  // namespace vehs::sim
+}  // namespace vehs::sim::detail

@@ -1,11 +1,11 @@
-#include "vehs/sim/system.hpp"
+#include "vehs/sim/detail/model_system.hpp"
 
 #include <cmath>
 #include <map>
 
 #include "vehs/core/error.hpp"
 
-namespace vehs::sim {
+namespace vehs::sim::detail {
 
 XPolynomial XPolynomial::from_coefficients(const std::vector<double>& c) {
   XPolynomial p;
@@ -203,4 +203,4 @@ CompiledModel CompiledModel::from_model(const Model& m, const std::string& where
   return cm;
 }
 
-}  // namespace vehs::sim
+}  // namespace vehs::sim::detail
