@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 
 #include "vehs/core/error.hpp"
 
@@ -30,9 +31,9 @@ Location term_location(bool diffusion, Term term, double sign) {
 Location locate(const std::string& name) {
   Location loc;
   if (name == "beta") return term_location(false, Term::monomial(0, 1), -1.0);
-  if (name == "2D") return term_location(true, Term::monomial(0, 0), 1.0);
-  if (name == "2Q") return term_location(true, Term::monomial(2, 0), 1.0);
-  if (name.size() >= 2 && name[0] == 'k' &&
+  if (name == "2D" || name == "D") return term_location(true, Term::monomial(0, 0), name == "D" ? 0.5 : 1.0);
+  if (name == "2Q" || name == "Q") return term_location(true, Term::monomial(2, 0), name == "Q" ? 0.5 : 1.0);
+  if (name.size() >= 2 && name.size() <= 3 && name[0] == 'k' &&
       std::all_of(name.begin() + 1, name.end(), [](unsigned char c) { return std::isdigit(c); }))
     return term_location(false, Term::monomial(std::stoi(name.substr(1)), 0), -1.0);
   for (const char* prefix : {"drift[", "diffusion["}) {
@@ -51,7 +52,7 @@ Location locate(const std::string& name) {
     return loc;
   }
   throw Error("unknown parameter '" + name +
-              "' (expected beta, k<i>, 2D, 2Q, drift[<term>], diffusion[<term>] or <effect>.<param>)");
+              "' (known: beta, k<i>, 2D, 2Q, D, Q, drift[<term>], diffusion[<term>], <effect>.<param>)");
 }
 
 std::string name_of(const Term& t, bool diffusion) {
@@ -116,6 +117,7 @@ double get_parameter(const Model& m, const std::string& name) {
 }
 
 void set_parameter(Model& m, const std::string& name, double value) {
+  require(std::isfinite(value), "parameter '" + name + "' must be finite");
   const Location loc = locate(name);
   if (loc.effect) {
     for (auto& e : m.effects)
@@ -131,10 +133,10 @@ void set_parameter(Model& m, const std::string& name, double value) {
   TermList& list = loc.diffusion ? m.diffusion : m.drift;
   for (auto& tc : list)
     if (tc.term == loc.term) {
-      tc.coef = loc.sign * value;
+      tc.coef = value / loc.sign;
       return;
     }
-  list.push_back({loc.term, loc.sign * value});
+  list.push_back({loc.term, value / loc.sign});
   canonicalize(list, name);
 }
 

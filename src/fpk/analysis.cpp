@@ -7,7 +7,7 @@
 
 #include "vehs/conventions.hpp"
 #include "vehs/core/error.hpp"
-#include "vehs/fpk/stationary.hpp"
+#include "vehs/fpk/solve.hpp"
 
 namespace vehs::fpk {
 

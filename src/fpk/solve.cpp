@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <memory>
 #include <sstream>
 
 #include <Eigen/IterativeLinearSolvers>
@@ -12,7 +13,7 @@
 #include <suitesparse/umfpack.h>
 
 #include "vehs/core/error.hpp"
-#include "vehs/fpk/stationary.hpp"
+#include "vehs/fpk/solve.hpp"
 
 namespace vehs::fpk {
 
@@ -129,8 +130,14 @@ struct DirectSolverCache::Impl {
   }
 };
 
-DirectSolverCache::DirectSolverCache() : impl_(new Impl) {}
-DirectSolverCache::~DirectSolverCache() { delete impl_; }
+DirectSolverCache::DirectSolverCache() : impl_(std::make_unique<Impl>()) {}
+DirectSolverCache::~DirectSolverCache() = default;
+
+namespace detail {
+struct SolverAccess {
+  static DirectSolverCache::Impl& of(DirectSolverCache& cache) { return *cache.impl_; }
+};
+}  // namespace detail
 void DirectSolverCache::share_analysis(const DirectSolverCache& other) {
   impl_->release();
   impl_->set_ordering(other.impl_->ordering);
@@ -246,7 +253,7 @@ std::vector<double> solve_direct(const FpkModel& model, SparseMatrix& A, const G
                                  DirectSolverCache* cache, Ordering ordering, SolveSummary& sum,
                                  SparseMatrix* high = nullptr, int correction_steps = 0) {
   DirectSolverCache local;
-  DirectSolverCache::Impl& lu = *(cache ? cache : &local)->impl();
+  DirectSolverCache::Impl& lu = detail::SolverAccess::of(cache ? *cache : local);
   if (!cache) lu.set_ordering(ordering);  // a cache keeps the ordering it was analysed with
   const double s = mean_abs_diagonal(A);
   std::size_t r = guess_maximum(model, g);

@@ -6,7 +6,8 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/core/detail/progress_counter.hpp"
-#include "vehs/fpk/stationary.hpp"
+#include "vehs/core/parameters.hpp"
+#include "vehs/fpk/sweep.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -30,7 +31,7 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
   std::size_t count = 1;
   for (const auto& a : axes) {
     require(!a.values.empty(), "sweep: parameter '" + a.name + "' has no values");
-    (void)get_model_parameter(base, a.name);  // unknown names fail here, before any work
+    (void)get_parameter(base, a.name);  // unknown names fail here, before any work
     count *= a.values.size();
   }
   SweepResult out;
@@ -46,7 +47,7 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
       rest /= axes[a].values.size();
     }
     Model m = base;
-    for (std::size_t a = 0; a < axes.size(); ++a) set_model_parameter(m, axes[a].name, pt.parameters[a]);
+    for (std::size_t a = 0; a < axes.size(); ++a) set_parameter(m, axes[a].name, pt.parameters[a]);
     models[k] = std::move(m);
   }
   // One grid for all points: the envelope of the automatic domains.

@@ -8,6 +8,7 @@
 #include "vehs/conventions.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/core/parameters.hpp"
 #include "vehs/fpk/stationary.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/io/model_file.hpp"
@@ -191,7 +192,7 @@ int run_fpk(Config& cfg, const AppOptions& app) {
   if (cfg.has("sweep")) axes = parse_sweep(cfg);  // parse and check before the long solve
   for (const auto& a : axes) {
     try {
-      (void)get_model_parameter(model, a.name);
+      (void)get_parameter(model, a.name);
     } catch (const Error& e) {
       throw Error(cfg.where("sweep") + ": " + e.what());
     }

@@ -11,6 +11,7 @@
 #include "fpk_fixtures.hpp"
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/core/parameters.hpp"
 #include "vehs/fpk/stationary.hpp"
 
 using namespace vehs::fpk;
@@ -200,14 +201,14 @@ TEST_CASE("sweeps: one grid, results independent of the thread count and equal t
 
 TEST_CASE("parameters by name follow the contract's signs", "[fpk][sweep]") {
   vehs::Model m = fpk_fixtures::paper_learned();
-  CHECK(get_model_parameter(m, "beta") == Approx(0.1010));
-  CHECK(get_model_parameter(m, "k9") == Approx(3.1068));
-  CHECK(get_model_parameter(m, "2Q") == Approx(0.0116));
-  CHECK(get_model_parameter(m, "Q") == Approx(0.0058));
-  set_model_parameter(m, "k7", -12.0);
+  CHECK(vehs::get_parameter(m, "beta") == Approx(0.1010));
+  CHECK(vehs::get_parameter(m, "k9") == Approx(3.1068));
+  CHECK(vehs::get_parameter(m, "2Q") == Approx(0.0116));
+  CHECK(vehs::get_parameter(m, "Q") == Approx(0.0058));
+  vehs::set_parameter(m, "k7", -12.0);
   CHECK(m.drift_coef("x^7") == Approx(12.0));
-  set_model_parameter(m, "drift[x^2*y]", -0.3);
+  vehs::set_parameter(m, "drift[x^2*y]", -0.3);
   CHECK(m.drift_coef("x^2*y") == -0.3);
-  set_model_parameter(m, "D", 0.01);
+  vehs::set_parameter(m, "D", 0.01);
   CHECK(m.diffusion_coef("1") == Approx(0.02));
 }

@@ -1,9 +1,10 @@
 #pragma once
 // The physical parameter names of the paper (β, k_i, 2D, 2Q) over the term coefficients of a
-// model file, so tables, sweeps and studies speak the user's language:
-//   beta = −drift["y"], k<i> = −drift["x^i"], 2D = diffusion["1"], 2Q = diffusion["x^2"];
-//   any other term appears as drift[<term>] or diffusion[<term>] (the coefficient itself), and
-//   effect parameters as <effect>.<param>.
+// model, so tables, sweeps and studies speak the user's language — the one parser of parameter
+// names (vehs-compare's tables, fpk sweeps, consistency studies):
+//   beta = −drift["y"], k<i> = −drift["x^i"] (i < 100), 2D = diffusion["1"], 2Q = diffusion["x^2"],
+//   D and Q their halves; any other term as drift[<term>] or diffusion[<term>] (the coefficient
+//   itself), and effect parameters as <effect>.<param>.
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,7 +26,8 @@ std::vector<PhysicalParameter> physical_parameters(const Model& m);
 /// Reads a parameter by physical name (0 when the term is absent); throws vehs::Error for a name
 /// that is not of the forms above.
 double get_parameter(const Model& m, const std::string& name);
-/// Sets a parameter by physical name, adding the term when absent.
+/// Sets a parameter by physical name (finite), adding the term when absent; an effect parameter
+/// must belong to an effect of the model.
 void set_parameter(Model& m, const std::string& name, double value);
 
 }  // namespace vehs

@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "vehs/core/error.hpp"
-#include "vehs/fpk/stationary.hpp"
+#include "vehs/fpk/fpk_model.hpp"
 
 namespace vehs::fpk {
 
@@ -154,97 +154,6 @@ double FpkModel::temperature(double x) const {
     v = v_new;
   }
   return t;
-}
-
-// ---- parameters by name ---------------------------------------------------------------------
-
-namespace {
-
-struct TermParam {
-  bool drift = true;
-  Term term;
-  double sign = 1.0;  ///< parameter = sign · coefficient
-};
-
-bool parse_term_param(const std::string& name, TermParam& out) {
-  auto term_in = [&](const std::string& prefix, bool drift) {
-    if (name.size() > prefix.size() + 1 && name.compare(0, prefix.size() + 1, prefix + "[") == 0 &&
-        name.back() == ']') {
-      out.drift = drift;
-      out.term = Term::parse(name.substr(prefix.size() + 1, name.size() - prefix.size() - 2));
-      out.sign = 1.0;
-      return true;
-    }
-    return false;
-  };
-  if (term_in("drift", true) || term_in("diffusion", false)) return true;
-  if (name == "beta") {
-    out = {true, Term::monomial(0, 1), -1.0};
-    return true;
-  }
-  if (name == "2D" || name == "D") {
-    out = {false, Term::monomial(0, 0), name == "D" ? 0.5 : 1.0};
-    return true;
-  }
-  if (name == "2Q" || name == "Q") {
-    out = {false, Term::monomial(2, 0), name == "Q" ? 0.5 : 1.0};
-    return true;
-  }
-  if (name.size() >= 2 && name[0] == 'k' &&
-      name.find_first_not_of("0123456789", 1) == std::string::npos && name.size() <= 3) {
-    out = {true, Term::monomial(std::stoi(name.substr(1)), 0), -1.0};
-    return true;
-  }
-  return false;
-}
-
-const char* kParamHelp =
-    " (known: beta, k<i>, 2D, 2Q, D, Q, drift[<term>], diffusion[<term>], impact_stop.<param>)";
-
-}  // namespace
-
-void set_model_parameter(Model& model, const std::string& name, double value) {
-  require(std::isfinite(value), "sweep parameter '" + name + "' must be finite");
-  TermParam tp;
-  if (parse_term_param(name, tp)) {
-    TermList& list = tp.drift ? model.drift : model.diffusion;
-    const double coef = value / tp.sign;
-    for (auto& tc : list)
-      if (tc.term == tp.term) {
-        tc.coef = coef;
-        return;
-      }
-    list.push_back({tp.term, coef});
-    canonicalize(list, "sweep");
-    return;
-  }
-  const auto dot = name.find('.');
-  if (dot != std::string::npos) {
-    const EffectId id = enum_from_string(kEffectNames, name.substr(0, dot), "sweep parameter '" + name + "'");
-    const std::string key = name.substr(dot + 1);
-    for (auto& e : model.effects)
-      if (e.id == id) {
-        require(e.params.count(key) > 0, "sweep parameter '" + name + "': effect '" + e.name() +
-                                             "' has no parameter '" + key + "'");
-        e.params[key] = value;
-        return;
-      }
-    throw Error("sweep parameter '" + name + "': the model has no effect '" + name.substr(0, dot) + "'");
-  }
-  throw Error("unknown sweep parameter '" + name + "'" + kParamHelp);
-}
-
-double get_model_parameter(const Model& model, const std::string& name) {
-  TermParam tp;
-  if (parse_term_param(name, tp))
-    return tp.sign * coefficient(tp.drift ? model.drift : model.diffusion, tp.term);
-  const auto dot = name.find('.');
-  if (dot != std::string::npos) {
-    const EffectId id = enum_from_string(kEffectNames, name.substr(0, dot), "parameter '" + name + "'");
-    if (const Effect* e = model.find_effect(id)) return e->param(name.substr(dot + 1));
-    throw Error("parameter '" + name + "': the model has no effect '" + name.substr(0, dot) + "'");
-  }
-  throw Error("unknown parameter '" + name + "'" + kParamHelp);
 }
 
 }  // namespace vehs::fpk

@@ -1,27 +1,35 @@
-// Assembly of the stationary FPK operator directly into compressed-column storage with the
-// fixed 5-point pattern (see stationary.hpp for the schemes).
+#pragma once
+// The sparse finite-difference operator of the stationary FPK equation (stationary.hpp describes
+// the schemes), as a header kernel over any provider of the coefficients — FpkModel, or a
+// user's own b2 and a22: anything with
+//     double b2(x, y), db2_dy(x, y), a22(x, y), da22_dy(x, y), d2a22_dy2(x, y) const;
+//     bool has_sign_y() const;   std::string where() const;   (the name used in errors)
+// The operator is assembled directly into compressed-column storage with a fixed pattern (5
+// points, 7 for the fourth-order flux), so that all models on one grid share one pattern (and
+// one symbolic factorisation).
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
+#include <vector>
 
+#include <Eigen/SparseCore>
+
+#include "vehs/core/enum_names.hpp"
 #include "vehs/core/error.hpp"
-#include "vehs/fpk/stationary.hpp"
+#include "vehs/fpk/grid.hpp"
 
 namespace vehs::fpk {
 
-std::string Grid::invalid_reason() const {
-  for (const auto* a : {&x, &y}) {
-    const char* name = a == &x ? "x" : "y";
-    if (!std::isfinite(a->min) || !std::isfinite(a->max))
-      return std::string("grid.") + name + ": bounds must be finite";
-    if (!(a->min < a->max)) return std::string("grid.") + name + ": min must be < max";
-    if (a->n < 3) return std::string("grid.") + name + ": needs at least 3 cells";
-    if (a->n > 20000) return std::string("grid.") + name + ": more than 20000 cells per axis";
-  }
-  if (size() > 50'000'000ULL) return "grid: more than 5e7 cells";
-  return "";
-}
+enum class Scheme { Flux, Flux2, Central, PaperLiteral };
+inline constexpr EnumNames<Scheme, 4> kSchemeNames{{{Scheme::Flux, "flux"},
+                                                    {Scheme::Flux2, "flux2"},
+                                                    {Scheme::Central, "central"},
+                                                    {Scheme::PaperLiteral, "paper_literal"}}};
 
-namespace {
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+namespace detail {
 
 /// Slot positions of the pattern in compressed-column storage; column k = i·ny + j holds rows
 /// in the order W2 (k − 2ny, wide only), W (k − ny), S (k − 1), C (k), N (k + 1), E (k + ny),
@@ -61,16 +69,22 @@ struct Pattern {
   }
 };
 
-std::string point(double x, double y) {
+inline std::string point(double x, double y) {
   std::ostringstream os;
   os.precision(6);
   os << "(x, y) = (" << x << ", " << y << ")";
   return os.str();
 }
 
-}  // namespace
+}  // namespace detail
 
-SparseMatrix assemble_operator(const FpkModel& model, const Grid& grid, Scheme scheme) {
+/// The stationary FPK operator A (A p = 0) of `model` on `grid`. Throws vehs::Error when a
+/// coefficient is not finite on the grid or a22 is negative somewhere (naming the point), or for
+/// sign(y) with a non-conservative scheme.
+template <class Coefficients>
+SparseMatrix assemble_operator(const Coefficients& model, const Grid& grid, Scheme scheme) {
+  using detail::Pattern;
+  using detail::point;
   if (auto why = grid.invalid_reason(); !why.empty()) throw Error(why);
   if (scheme != Scheme::Flux && scheme != Scheme::Flux2 && model.has_sign_y())
     throw Error(model.where() + ": the drift term sign(y) has a delta-function y-derivative that "
