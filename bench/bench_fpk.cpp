@@ -13,7 +13,6 @@
 
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/model.hpp"
-#include "vehs/io/model_file.hpp"
 #include "vehs/fpk/stationary.hpp"
 
 using namespace vehs;
@@ -22,9 +21,7 @@ using namespace vehs::fpk;
 namespace {
 
 Model learned() {
-  return model_from_json(nlohmann::json::parse(R"({"drift": {"x": -0.9976, "x^3": 7.7182, "x^5": -16.3409,
-      "x^7": 12.5293, "x^9": -3.1068, "y": -0.1010}, "diffusion": {"1": 0.0194, "x^2": 0.0116}})"),
-                         "learned");
+  return Model::paper(0.1010, {{1, 0.9976}, {3, -7.7182}, {5, 16.3409}, {7, -12.5293}, {9, 3.1068}}, 0.0194, 0.0116);
 }
 
 double wall(const std::chrono::steady_clock::time_point t0) {

@@ -20,7 +20,6 @@
 
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/error.hpp"
-#include "vehs/io/model_file.hpp"
 #include "vehs/identify/identify.hpp"
 #include "vehs/io/measurements.hpp"
 #include "vehs/sim/simulate.hpp"
@@ -48,9 +47,7 @@ double peak_rss_mb() {
 }
 
 vehs::Model paper_truth() {
-  return vehs::model_from_json(nlohmann::json::parse(R"({
-    "drift": {"x": -1.0, "x^3": 7.7, "x^5": -16.3, "x^7": 12.5, "x^9": -3.1, "y": -0.1},
-    "diffusion": {"1": 0.02, "x^2": 0.01}})"), "paper");
+  return vehs::Model::paper(0.1, {{1, 1.0}, {3, -7.7}, {5, 16.3}, {7, -12.5}, {9, 3.1}}, 0.02, 0.01);
 }
 
 int generate(const fs::path& dir) {

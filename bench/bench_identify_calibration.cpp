@@ -24,7 +24,6 @@
 
 #include "tools/terminal_progress.hpp"
 #include "vehs/core/error.hpp"
-#include "vehs/io/model_file.hpp"
 #include "vehs/identify/study.hpp"
 
 int main(int argc, char** argv) {
@@ -34,9 +33,7 @@ int main(int argc, char** argv) {
   const std::string cases = argc > 4 ? argv[4] : "ABCD";
   const std::uint64_t seed = argc > 5 ? static_cast<std::uint64_t>(std::atoll(argv[5])) : 0;
   try {
-    const vehs::Model truth = vehs::model_from_json(nlohmann::json::parse(R"({
-      "drift": {"x": -1.0, "x^3": 7.7, "x^5": -16.3, "x^7": 12.5, "x^9": -3.1, "y": -0.1},
-      "diffusion": {"1": 0.02, "x^2": 0.01}})"), "paper");
+    const vehs::Model truth = vehs::Model::paper(0.1, {{1, 1.0}, {3, -7.7}, {5, 16.3}, {7, -12.5}, {9, 3.1}}, 0.02, 0.01);
     struct Case {
       char id;
       const char* what;

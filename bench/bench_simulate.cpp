@@ -22,7 +22,6 @@
 
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/model.hpp"
-#include "vehs/io/model_file.hpp"
 #include "vehs/sim/random.hpp"
 #include "vehs/sim/simulate.hpp"
 
@@ -32,11 +31,7 @@ using vehs::sim::CounterRng;
 using vehs::sim::Purpose;
 
 const vehs::Model& paper_model() {
-  static const vehs::Model m = vehs::model_from_json(
-      nlohmann::json::parse(R"({"drift": {"x": -1.0, "x^3": 7.7, "x^5": -16.3, "x^7": 12.5,
-                                          "x^9": -3.1, "y": -0.1},
-                                "diffusion": {"1": 0.02, "x^2": 0.01}})"),
-      "paper model");
+  static const vehs::Model m = vehs::Model::paper(0.1, {{1, 1.0}, {3, -7.7}, {5, 16.3}, {7, -12.5}, {9, 3.1}}, 0.02, 0.01);
   return m;
 }
 

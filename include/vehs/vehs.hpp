@@ -1,11 +1,13 @@
 #pragma once
 // Umbrella header of the vehs library: every public area.
 #include "vehs/conventions.hpp"
-// core: terms, models, effects, parameters, statistics, progress, threads
+// core: terms, models (and their builder), effects, parameters, datasets, statistics, progress, threads
 #include "vehs/core/dataset.hpp"
+#include "vehs/core/enum_names.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/core/fit_info.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/core/model_builder.hpp"
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/parameters.hpp"
 #include "vehs/core/progress.hpp"
@@ -17,15 +19,27 @@
 #include "vehs/io/model_file.hpp"
 // sim: ensembles, steppers, random numbers
 #include "vehs/sim/random.hpp"
+#include "vehs/sim/scheme.hpp"
 #include "vehs/sim/simulate.hpp"
 #include "vehs/sim/steppers.hpp"
 // identify: drift and diffusion from records, dynamic effects, consistency studies
+#include "vehs/identify/dictionary.hpp"
 #include "vehs/identify/dynamic.hpp"
+#include "vehs/identify/gram.hpp"
 #include "vehs/identify/identify.hpp"
+#include "vehs/identify/regression.hpp"
 #include "vehs/identify/report.hpp"
 #include "vehs/identify/study.hpp"
 // fpk: stationary Fokker-Planck densities and sweeps
+#include "vehs/fpk/assemble.hpp"
+#include "vehs/fpk/fpk_model.hpp"
+#include "vehs/fpk/grid.hpp"
+#include "vehs/fpk/solve.hpp"
 #include "vehs/fpk/stationary.hpp"
+#include "vehs/fpk/sweep.hpp"
 // diagnose: model adequacy and suspects
 #include "vehs/diagnose/diagnose.hpp"
+#include "vehs/diagnose/distributions.hpp"
+#include "vehs/diagnose/hypothesis.hpp"
+#include "vehs/diagnose/lens.hpp"
 #include "vehs/diagnose/suspects.hpp"

@@ -32,7 +32,7 @@ std::string Options::invalid_reason() const {
   if (drift_library.empty() && effects.empty()) return "the drift library is empty";
   if (diffusion_library.empty()) return "the diffusion library is empty";
   for (const auto& t : diffusion_library)
-    if (t.depends_on_u() || t.kind == TermKind::SignY)
+    if (!allowed_in_diffusion(t))
       return "diffusion term '" + t.name() + "' is not allowed";
   if (stride < 0) return "stride must be >= 0";
   if (stride > 0 && (estimator == Estimator::Paper || estimator == Estimator::Forward))

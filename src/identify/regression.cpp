@@ -196,11 +196,20 @@ std::vector<SupportFit> stlsq_path(const QuadraticStats& s, const std::vector<in
   return path;
 }
 
-SelectionResult select_sparse(const std::vector<QuadraticStats>& folds,
-                              const std::vector<int>& initial, const std::vector<bool>& keep,
-                              Sparsity sparsity, SsrRule rule, Criterion criterion,
-                              double stlsq_threshold, double variance_factor) {
+std::string SelectionOptions::invalid_reason() const {
+  if (!(stlsq_threshold >= 0.0) || !std::isfinite(stlsq_threshold)) return "stlsq_threshold must be >= 0";
+  if (!(variance_factor > 0.0) || !std::isfinite(variance_factor)) return "the BIC's variance factor must be > 0";
+  return "";
+}
+
+SelectionResult select_sparse(const std::vector<QuadraticStats>& folds, const std::vector<int>& initial,
+                              const std::vector<bool>& keep, const SelectionOptions& options) {
   require(!folds.empty(), "internal: no fold statistics");
+  if (auto why = options.invalid_reason(); !why.empty()) throw Error("selection: " + why);
+  const Sparsity sparsity = options.sparsity;
+  const SsrRule rule = options.rule;
+  const Criterion criterion = options.criterion;
+  const double stlsq_threshold = options.stlsq_threshold, variance_factor = options.variance_factor;
   QuadraticStats total;
   for (const auto& f : folds) total += f;
   auto run_path = [&](const QuadraticStats& s) {

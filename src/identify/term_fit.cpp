@@ -297,9 +297,11 @@ Result identify_terms(const Dataset& data, const Options& options) {
   corr.q = pilot.q;
   double s2 = est == Estimator::Noisy ? set_sensor_noise(pilot.C2k - pilot.C3k, kin.h, corr) : 0.0;
   rep.drift_selection.dictionary = phi.terms();
-  rep.drift_selection.selection = select_sparse(drift_folds(dstats, phi, corr), full_support(phi.size()), dict.keep_phi,
-                                                options.sparsity, rule, options.criterion, options.stlsq_threshold,
-                                                pilot.drift_lr);
+  const SelectionOptions selection{options.sparsity, rule, options.criterion, options.stlsq_threshold, 1.0};
+  SelectionOptions drift_selection = selection;
+  drift_selection.variance_factor = pilot.drift_lr;
+  rep.drift_selection.selection =
+      select_sparse(drift_folds(dstats, phi, corr), full_support(phi.size()), dict.keep_phi, drift_selection);
   const std::vector<int> S = chosen_fit(rep.drift_selection.selection).support;
 
   // ---- pass 2: residuals → weighted diffusion statistics per fold, diffusion selection
@@ -320,8 +322,9 @@ Result identify_terms(const Dataset& data, const Options& options) {
   const std::vector<int> allq = full_support(psi.size());
   rep.fit.diffusion_condition_full = require_well_conditioned(qtotal.G, allq, dict.psi_names, "the diffusion dictionary");
   rep.diffusion_selection.dictionary = psi.terms();
-  rep.diffusion_selection.selection = select_sparse(qfolds, allq, dict.keep_psi, options.sparsity, rule, options.criterion,
-                                                    options.stlsq_threshold, pilot.diffusion_lr);
+  SelectionOptions diffusion_selection = selection;
+  diffusion_selection.variance_factor = pilot.diffusion_lr;
+  rep.diffusion_selection.selection = select_sparse(qfolds, allq, dict.keep_psi, diffusion_selection);
   const SupportFit& chosen_q = chosen_fit(rep.diffusion_selection.selection);
   const std::vector<int> T = chosen_q.support;
   const VectorXd q = full_coefficients(chosen_q, psi.size());

@@ -514,7 +514,21 @@ void write_npy(std::ostream& os, const Dataset& d, const WriteColumns& c) {
 
 }  // namespace
 
+std::string ReadOptions::invalid_reason() const {
+  if (x_column.empty()) return "the x column needs a name";
+  if (!(dt >= 0.0) || !std::isfinite(dt)) return "dt must be >= 0 (0: from the time column)";
+  if (min_samples < 2) return "records need at least 2 samples (min_samples >= 2)";
+  if (require_u && !read_u) return "require_u needs read_u";
+  return "";
+}
+
+std::string WriteColumns::invalid_reason() const {
+  if (precision < 1 || precision > 17) return "precision must be in [1, 17] significant digits";
+  return "";
+}
+
 Dataset read_measurements(const std::string& path, const ReadOptions& options) {
+  if (auto why = options.invalid_reason(); !why.empty()) throw Error(path + ": " + why);
   return ends_with(path, ".npy") ? read_npy(path, options) : read_csv(path, options);
 }
 
@@ -526,6 +540,7 @@ Dataset read_measurements(const std::vector<std::string>& paths, const ReadOptio
 }
 
 void write_measurements(const std::string& path, const Dataset& data, const WriteColumns& cols) {
+  if (auto why = cols.invalid_reason(); !why.empty()) throw Error(path + ": " + why);
   write_file_atomically(path, [&](std::ostream& os) {
     if (ends_with(path, ".npy"))
       write_npy(os, data, cols);

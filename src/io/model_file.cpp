@@ -174,8 +174,7 @@ Model model_from_json(const nlohmann::json& j, const std::string& where, nlohman
   m.drift = terms_from_json(j["drift"], where + ": drift");
   m.diffusion = terms_from_json(j["diffusion"], where + ": diffusion");
   for (const auto& tc : m.diffusion)
-    if (tc.term.depends_on_u() || tc.term.kind == TermKind::SignY)
-      throw Error(where + ": diffusion term '" + tc.term.name() + "' is not allowed");
+    if (!allowed_in_diffusion(tc.term)) throw Error(where + ": diffusion term '" + tc.term.name() + "' is not allowed");
   if (j.contains("stderr")) {
     const auto& s = j["stderr"];
     if (!s.is_object()) throw Error(where + ": stderr must be an object");

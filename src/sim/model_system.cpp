@@ -121,7 +121,7 @@ CompiledModel CompiledModel::from_model(const Model& m, const std::string& where
   cm.drift_dy = d.fy.build();
   cm.drift_dyy = d.fyy.build();
   for (const auto& tc : m.diffusion)
-    if (tc.term.kind == TermKind::SignY || tc.term.kind == TermKind::Drive)
+    if (!allowed_in_diffusion(tc.term))
       throw Error(where + ": diffusion term '" + tc.term.name() + "' cannot be simulated");
   const Compiled a = compile_terms(m.diffusion);
   cm.diffusion = a.f.build();

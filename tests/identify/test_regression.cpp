@@ -89,8 +89,8 @@ TEST_CASE("SSR with BIC and with one-SE cross-validation select the true support
     const auto folds = regression_problem(beta, 1.0, 20000, 10, 100 + static_cast<unsigned>(t));
     const std::vector<bool> keep(8, false);
     const std::vector<int> all{0, 1, 2, 3, 4, 5, 6, 7};
-    const auto bic = select_sparse(folds, all, keep, Sparsity::Ssr, SsrRule::TRatio, Criterion::Bic, 0.0);
-    const auto cv = select_sparse(folds, all, keep, Sparsity::Ssr, SsrRule::TRatio, Criterion::Cv1se, 0.0);
+    const auto bic = select_sparse(folds, all, keep, {Sparsity::Ssr, SsrRule::TRatio, Criterion::Bic, 0.0});
+    const auto cv = select_sparse(folds, all, keep, {Sparsity::Ssr, SsrRule::TRatio, Criterion::Cv1se, 0.0});
     const std::vector<int> truth{1, 3, 6};
     bic_hits += bic.path[static_cast<std::size_t>(bic.chosen)].support == truth;
     cv_hits += cv.path[static_cast<std::size_t>(cv.chosen)].support == truth;
@@ -112,7 +112,7 @@ TEST_CASE("kept terms survive SSR and STLSQ", "[identify][regression]") {
   CHECK(path.back().support == std::vector<int>{2});
   const auto st = stlsq_path(total(folds), {0, 1, 2, 3}, keep, 0.5);
   CHECK(st.back().support == std::vector<int>{0, 2, 3});
-  const auto sel = select_sparse(folds, {0, 1, 2, 3}, keep, Sparsity::Ssr, SsrRule::TRatio, Criterion::Bic, 0.0);
+  const auto sel = select_sparse(folds, {0, 1, 2, 3}, keep, {Sparsity::Ssr, SsrRule::TRatio, Criterion::Bic, 0.0});
   const auto& chosen = sel.path[static_cast<std::size_t>(sel.chosen)].support;
   CHECK(chosen == std::vector<int>{0, 2, 3});
 }

@@ -96,7 +96,14 @@ struct Model {
 
   double b2(double x, double y, double u = 0.0) const { return evaluate(drift, x, y, u); }
   double a22(double x, double y) const { return evaluate(diffusion, x, y, 0.0); }
+
+  /// The paper's harvester (Eq. 7): b2 = −β y − Σ k_i x^i, a22 = 2D + 2Q x², with k given by
+  /// power: {{1, k1}, {3, k3}, …} (vehs/core/model_builder.hpp builds any other model).
+  static Model paper(double beta, const std::map<int, double>& k, double two_D, double two_Q = 0.0);
 };
+
+/// Whether a term may appear in the diffusion a22 (not the drive u, not sign(y)).
+inline bool allowed_in_diffusion(const Term& t) { return !t.depends_on_u() && t.kind != TermKind::SignY; }
 
 /// Empty when `key` is a parameter of the effect, else the reason as a suffix for an error
 /// message (": effect 'x' has no parameter 'k' (its parameters: ...)").

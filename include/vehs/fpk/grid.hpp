@@ -25,7 +25,6 @@ struct Grid {
   std::string invalid_reason() const;
 };
 
-
 /// Which axes of a grid are chosen automatically.
 struct GridRequest {
   bool auto_x = true, auto_y = true;

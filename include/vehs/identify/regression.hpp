@@ -114,13 +114,20 @@ struct SelectionResult {
   std::string rule;               ///< how `chosen` was picked (one line)
 };
 
+/// How select_sparse walks the path and picks the step.
+struct SelectionOptions {
+  Sparsity sparsity = Sparsity::Ssr;
+  SsrRule rule = SsrRule::TRatio;
+  Criterion criterion = Criterion::Bic;
+  double stlsq_threshold = 0.05;   ///< |coef| threshold of STLSQ (coefficient units)
+  double variance_factor = 1.0;    ///< φ of the BIC (see Criterion)
+  std::string invalid_reason() const;
+};
+
 /// Runs the sparse regression on the total statistics and picks the step. `folds` are the
 /// per-fold statistics whose sum is the total (blocked CV: the training set of fold f is
 /// total − fold f, its SSR path is recomputed, and each step's coefficients are scored on f).
-/// `variance_factor` is φ of the BIC (see Criterion).
-SelectionResult select_sparse(const std::vector<QuadraticStats>& folds,
-                              const std::vector<int>& initial, const std::vector<bool>& keep,
-                              Sparsity sparsity, SsrRule rule, Criterion criterion,
-                              double stlsq_threshold, double variance_factor = 1.0);
+SelectionResult select_sparse(const std::vector<QuadraticStats>& folds, const std::vector<int>& initial,
+                              const std::vector<bool>& keep, const SelectionOptions& options);
 
 }  // namespace vehs::identify

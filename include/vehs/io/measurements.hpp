@@ -22,6 +22,9 @@ struct ReadOptions {
   bool read_u = true;              ///< false: ignore a drive column even when present
   bool read_y = false;             ///< read the true velocity when present
   std::size_t min_samples = 2;     ///< shorter records are an error
+
+  /// Empty when valid, else a one-line reason.
+  std::string invalid_reason() const;
 };
 
 /// Reads one measurement file; the format is chosen by extension (.npy binary, else CSV).
@@ -35,6 +38,9 @@ struct WriteColumns {
   bool with_y = true;
   bool with_u = false;
   int precision = 17;  ///< significant digits of CSV numbers (17 round-trips exactly)
+
+  /// Empty when valid, else a one-line reason.
+  std::string invalid_reason() const;
 };
 
 /// Writes a dataset as CSV (traj,t,x[,y][,u]) or .npy by extension, atomically.
