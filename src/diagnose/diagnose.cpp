@@ -91,7 +91,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
   std::optional<Dataset> suspect_subset;
   if (opt.suspects.enabled) suspect_subset = detail::add_suspects(model, data, opt, res, watch);
   detail::finish_verdict(res, opt.alpha);
-  const bool bad = res.verdict == "inadequate";
+  const bool bad = !res.adequate();
   if (bad && opt.suspects.enabled && opt.suspects.confirm) {
     detail::confirm_contenders(model, suspect_subset ? *suspect_subset : data, res.lens, opt, res.suspects);
     watch.lap(res, "suspects_confirmation");

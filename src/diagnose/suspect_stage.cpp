@@ -124,11 +124,11 @@ void confirm_contenders(const Model& model, const Dataset& data, const Lens& len
       sp.refit_verdict = r.verdict;
       sp.refit_score = r.score;
     } catch (const std::exception& ex) {
-      sp.refit_verdict = std::string("refit failed: ") + ex.what();
+      sp.refit_error = ex.what();
     }
-    tried += (tried.empty() ? "" : ", ") + sp.effect + " " +
-             (std::isfinite(sp.refit_score) ? sp.refit_verdict + " (score " + fmt(sp.refit_score) + ")" : sp.refit_verdict);
-    if (sp.refit_verdict == "adequate") {
+    tried += (tried.empty() ? "" : ", ") + sp.effect + " " + refit_text(sp) +
+             (std::isfinite(sp.refit_score) ? " (score " + fmt(sp.refit_score) + ")" : "");
+    if (sp.refit_verdict == Verdict::Adequate) {
       if (i != 0) {
         Suspect moved = sp;
         ranked.erase(ranked.begin() + static_cast<long>(i));

@@ -72,6 +72,11 @@ double block_z(const std::vector<double>& gain) {
   return se > 0 ? mean / se : 0.0;
 }
 
+std::string refit_text(const Suspect& suspect) {
+  if (!suspect.refit_error.empty()) return "refit failed: " + suspect.refit_error;
+  return suspect.refit_verdict ? enum_to_string(kVerdictNames, *suspect.refit_verdict) : "";
+}
+
 SuspectMethod suspect_method(EffectId id) {
   for (const auto& e : suspect_table())
     if (e.id == id) return e.method;

@@ -17,7 +17,7 @@ void finish_verdict(Result& res, double alpha) {
       res.score += c.test.excess;
       res.score_expected_adequate += chi2_sf(c.test.dof, c.test.dof + 2.0) - chi2_sf(c.test.dof, c.test.dof);
     }
-  res.verdict = bad ? "inadequate" : "adequate";
+  res.verdict = bad ? Verdict::Inadequate : Verdict::Adequate;
   if (available == 0) res.warnings.push_back("no test could be computed: the verdict rests on nothing");
 }
 

@@ -231,7 +231,7 @@ int run_diagnose(Config& c, const AppOptions& app) {
   const std::string html = report.write_html();
   write_json_atomically(output, j);
   if (!app.quiet) {
-    std::printf("verdict: %s   score %s (adequate models score about %s)\n", r.verdict.c_str(), g(r.score).c_str(),
+    std::printf("verdict: %s   score %s (adequate models score about %s)\n", enum_to_string(diagnose::kVerdictNames, r.verdict).c_str(), g(r.score).c_str(),
                 g(r.score_expected_adequate, 2).c_str());
     for (const auto& comp : r.components)
       std::printf("  %-18s %s\n", comp.name.c_str(),

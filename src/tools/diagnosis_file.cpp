@@ -23,7 +23,7 @@ nlohmann::ordered_json suspect_add_fragment(const diagnose::Suspect& s) {
 nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
   using namespace vehs::diagnose;
   J j;
-  j["verdict"] = r.verdict;
+  j["verdict"] = enum_to_string(diagnose::kVerdictNames, r.verdict);
   j["score"] = r.score;
   J comp = J::object();
   for (const auto& c : r.components) comp[c.name] = c.test.available ? J(c.test.excess) : J();
@@ -41,7 +41,7 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
     e["scale"] = s.scale;
     e["params_stderr"] = s.params_stderr;
     e["terms"] = s.terms;
-    if (!s.refit_verdict.empty()) e["refit"] = {{"verdict", s.refit_verdict}, {"score", num(s.refit_score)}};
+    if (const std::string refit = refit_text(s); !refit.empty()) e["refit"] = {{"verdict", refit}, {"score", num(s.refit_score)}};
     sus.push_back(e);
   }
   j["suspects"] = sus;

@@ -70,7 +70,7 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
   {
     auto& s = report.section("Verdict");
     std::ostringstream p;
-    p << "Model " << model_label << ": " << (r.verdict == "adequate" ? "ADEQUATE" : "INADEQUATE") << ". Score "
+    p << "Model " << model_label << ": " << (r.adequate() ? "ADEQUATE" : "INADEQUATE") << ". Score "
       << g(r.score) << " (an adequate model scores about " << g(r.score_expected_adequate, 2)
       << " on these components; lower is better; comparable between models fitted to the same data). "
       << "A component fails when its p-value is below " << g(r.threshold, 3)

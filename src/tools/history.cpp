@@ -91,7 +91,7 @@ nlohmann::ordered_json history_entry(const Model& model, const std::string& mode
   e["effects"] = effects;
   e["data_fingerprint"] = data_fingerprint(data);
   e["samples"] = data.total_samples();
-  e["verdict"] = result.verdict;
+  e["verdict"] = enum_to_string(diagnose::kVerdictNames, result.verdict);
   e["score"] = result.score;
   nlohmann::ordered_json comp = nlohmann::ordered_json::object();
   for (const auto& c : result.components)

@@ -38,7 +38,8 @@ inline vehs::Model excited(vehs::Model m, double two_d) {
 }
 
 inline std::string describe(const Result& r) {
-  std::string s = r.verdict + " score " + std::to_string(r.score) + ":";
+  std::string s = vehs::enum_to_string(vehs::diagnose::kVerdictNames, r.verdict) + " score " +
+                  std::to_string(r.score) + ":";
   for (const auto& c : r.components)
     s += " " + c.name + " p=" + (c.test.available ? std::to_string(c.test.p_value) : "n/a") +
          (c.name == "residual_lines" ? " (" + c.test.method + ")" : "");
@@ -123,7 +124,7 @@ inline LoopOutcome run_loop(const Hidden& h, std::uint64_t seed, std::size_t sam
   INFO("baseline model " << vehs::model_to_json(baseline).dump());
   const Result r0 = vehs::diagnose::diagnose(baseline, d, options(seed));
   INFO("baseline: " << describe(r0));
-  VEHS_LOOP_CHECK(r0.verdict == "inadequate");
+  VEHS_LOOP_CHECK(!r0.adequate());
   REQUIRE_FALSE(r0.suspects.ranked.empty());
   out.named_first = r0.suspects.ranked[0].effect;
   out.heldout_leader = std::max_element(r0.suspects.ranked.begin(), r0.suspects.ranked.end(),
@@ -161,7 +162,7 @@ inline LoopOutcome run_loop(const Hidden& h, std::uint64_t seed, std::size_t sam
   }
   const Result r1 = vehs::diagnose::diagnose(refit, d, options(seed + 1000));
   INFO("refit: " << describe(r1));
-  VEHS_LOOP_CHECK(r1.verdict == "adequate");
+  VEHS_LOOP_CHECK(r1.adequate());
   VEHS_LOOP_CHECK(r1.score <= 0.5 * r0.score);
   if (std::getenv("VEHS_MP_VERBOSE")) std::printf("baseline: %s\nrefit: %s\n", describe(r0).c_str(), describe(r1).c_str());
   for (const auto& sp : r1.suspects.ranked) VEHS_LOOP_CHECK(sp.effect != h.effect.name());

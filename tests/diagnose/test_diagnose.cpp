@@ -34,7 +34,8 @@ const vehs::diagnose::Component& component(const Result& r, const std::string& n
 }
 
 std::string describe(const Result& r) {
-  std::string s = r.verdict + " score " + std::to_string(r.score) + ":";
+  std::string s = vehs::enum_to_string(vehs::diagnose::kVerdictNames, r.verdict) + " score " +
+                  std::to_string(r.score) + ":";
   for (const auto& c : r.components)
     s += " " + c.name + " p=" + (c.test.available ? std::to_string(c.test.p_value) : "n/a");
   s += " | suspects:";
@@ -117,7 +118,7 @@ TEST_CASE("calibration: the true model is adequate on its own data for at least 
     const Result r = diagnose(bistable(), d, o);
     UNSCOPED_INFO("seed " << seed << ": " << describe(r));
     CHECK(r.lens.kinematics == (seed > 6 ? vehs::diagnose::Kinematics::Central : vehs::diagnose::Kinematics::Forward));
-    adequate += r.verdict == "adequate";
+    adequate += r.adequate();
     ++runs;
   }
   CHECK(adequate >= 9);
@@ -140,7 +141,7 @@ TEST_CASE("calibration: a baseline fitted to clean data is adequate for at least
     const Result r = diagnose(m, d, o);
     UNSCOPED_INFO("seed " << seed << ": " << describe(r));
     CHECK(r.parameter_draws == 6);  // the model reports standard errors: its uncertainty is propagated
-    adequate += r.verdict == "adequate";
+    adequate += r.adequate();
     for (const auto& sp : r.suspects.ranked) {
       CHECK_FALSE(sp.significant);
       held_out += sp.held_out_significant;
@@ -163,7 +164,7 @@ TEST_CASE("missing Coulomb friction: inadequate, the map's failure sits at v = 0
   o.fpk = false;
   const Result r = diagnose(m, d, o);
   INFO(describe(r));
-  CHECK(r.verdict == "inadequate");
+  CHECK(!r.adequate());
   CHECK(component(r, "one_step").test.p_value < r.threshold);
   const double bin_v = (r.map.v_hi - r.map.v_lo) / r.map.nv;
   CHECK(std::abs(failure_v(r)) < 1.5 * bin_v);
@@ -187,7 +188,7 @@ TEST_CASE("missing asymmetric stiffness: inadequate, asymmetric_stiffness is the
   o.fpk = false;
   const Result r = diagnose(m, d, o);
   INFO(describe(r));
-  CHECK(r.verdict == "inadequate");
+  CHECK(!r.adequate());
   REQUIRE_FALSE(r.suspects.ranked.empty());
   CHECK(r.suspects.ranked[0].effect == "asymmetric_stiffness");
   CHECK(r.suspects.ranked[0].significant);

@@ -59,7 +59,8 @@ vehs::Dataset two_epochs(double phase, std::uint64_t seed) {
 }
 
 std::string describe(const Result& r) {
-  std::string s = r.verdict + " score " + std::to_string(r.score) + ":";
+  std::string s = vehs::enum_to_string(vehs::diagnose::kVerdictNames, r.verdict) + " score " +
+                  std::to_string(r.score) + ":";
   for (const auto& c : r.components)
     s += " " + c.name + " p=" + (c.test.available ? std::to_string(c.test.p_value) : "n/a");
   return s;
@@ -85,7 +86,7 @@ TEST_CASE("calibration with dynamic effects: the true model (stops, forcing in a
     const Result r = vehs::diagnose::diagnose(dynamic_model(phase), d, options(static_cast<std::uint64_t>(k)));
     UNSCOPED_INFO("seed " << k << ": " << describe(r));
     CHECK(r.lens.kinematics == vehs::diagnose::Kinematics::Central);
-    adequate += r.verdict == "adequate";
+    adequate += r.adequate();
   }
   CHECK(adequate >= 9);
 }
@@ -101,7 +102,7 @@ TEST_CASE("with dynamic effects, a wrong forcing phase (time origin ignored) and
       if (e.id == vehs::EffectId::HarmonicForcing) e.params["phase"] = phase + 2.0;
     const Result r = vehs::diagnose::diagnose(wrong, d, options(1));
     INFO("wrong phase: " << describe(r));
-    CHECK(r.verdict == "inadequate");
+    CHECK(!r.adequate());
   }
   {
     auto without = dynamic_model(phase);
@@ -110,7 +111,7 @@ TEST_CASE("with dynamic effects, a wrong forcing phase (time origin ignored) and
                           without.effects.end());
     const Result r = vehs::diagnose::diagnose(without, d, options(2));
     INFO("without the electrical state: " << describe(r));
-    CHECK(r.verdict == "inadequate");
+    CHECK(!r.adequate());
   }
 }
 

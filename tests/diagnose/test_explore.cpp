@@ -11,7 +11,7 @@ using namespace diag_test;
 
 namespace {
 void summary(const vehs::diagnose::Result& r) {
-  std::printf("%-11s score %7.3f |", r.verdict.c_str(), r.score);
+  std::printf("%-11s score %7.3f |", vehs::enum_to_string(vehs::diagnose::kVerdictNames, r.verdict).c_str(), r.score);
   for (const auto& c : r.components)
     std::printf(" %s p=%.3g(%g)", c.name.c_str(), c.test.available ? c.test.p_value : -1.0, c.test.dof);
   std::printf(" | sus:");

@@ -67,7 +67,7 @@ TEST_CASE("missing physics control: nothing hidden, adequate and no significant 
     const vehs::Model baseline = fit(d, kBaselineDrift, kBaselineDiffusion);
     const Result r = vehs::diagnose::diagnose(baseline, d, options(seed));
     INFO(describe(r));
-    CHECK(r.verdict == "adequate");
+    CHECK(r.adequate());
     for (const auto& sp : r.suspects.ranked) CHECK_FALSE(sp.significant);
   }
 }

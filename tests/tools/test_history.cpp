@@ -35,7 +35,7 @@ TEST_CASE("model history: versions per data fingerprint, model and score kept, b
   CHECK(vehs::tools::model_hash(m1) != vehs::tools::model_hash(m2));
 
   vehs::diagnose::Result r;
-  r.verdict = "inadequate";
+  r.verdict = vehs::diagnose::Verdict::Inadequate;
   r.score = 12.5;
   vehs::diagnose::Component c;
   c.name = "one_step";
@@ -47,7 +47,7 @@ TEST_CASE("model history: versions per data fingerprint, model and score kept, b
   auto e = vehs::tools::append_history(path, vehs::tools::history_entry(m1, "m1.json", "baseline", d1, r));
   REQUIRE(e.size() == 1);
   CHECK(e[0]["version"] == 1);
-  r.verdict = "adequate";
+  r.verdict = vehs::diagnose::Verdict::Adequate;
   r.score = 0.1;
   r.components[0].test.excess = 0.1;
   e = vehs::tools::append_history(path, vehs::tools::history_entry(m2, "m2.json", "with friction", d1, r));

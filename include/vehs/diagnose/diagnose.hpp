@@ -55,6 +55,7 @@
 #include "vehs/diagnose/hypothesis.hpp"
 #include "vehs/diagnose/lens.hpp"
 #include "vehs/diagnose/suspects.hpp"
+#include "vehs/diagnose/verdict.hpp"
 #include "vehs/sim/simulate.hpp"
 
 namespace vehs::diagnose {
@@ -168,7 +169,8 @@ struct SamplingInfo {
 };
 
 struct Result {
-  std::string verdict;  ///< "adequate" | "inadequate"
+  Verdict verdict = Verdict::Adequate;
+  bool adequate() const { return verdict == Verdict::Adequate; }
   double score = 0.0;
   /// Expected score of an adequate model with the same components:
   /// Σ E[max(0, χ²_k/k − 1)] = Σ [P(χ²_{k+2} > k) − P(χ²_k > k)] (a reading aid for `score`).

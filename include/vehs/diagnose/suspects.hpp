@@ -53,6 +53,7 @@
 // random, so only the predictable part counts: the gain grows with intensity/a22 and with tau/h.
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -61,6 +62,7 @@
 #include "vehs/core/model.hpp"
 #include "vehs/core/progress.hpp"
 #include "vehs/diagnose/lens.hpp"
+#include "vehs/diagnose/verdict.hpp"
 #include "vehs/identify/identify.hpp"
 
 namespace vehs::diagnose {
@@ -105,7 +107,8 @@ struct Suspect {
   std::vector<std::string> terms;  ///< terms the effect added
   /// Set when the suspect was confirmed by a refit (diagnose's confirmation of close contenders):
   /// the verdict and score of the model refitted with this effect, or why the refit failed.
-  std::string refit_verdict;
+  std::optional<Verdict> refit_verdict;
+  std::string refit_error;
   std::vector<double> block_gain;  ///< held-out gain per block (nats), for paired comparisons
   double refit_score = std::numeric_limits<double>::quiet_NaN();
 };
@@ -122,6 +125,10 @@ struct SuspectReport {
 /// z of a held-out gain: the mean over blocks divided by its standard error from the
 /// block-to-block spread (0 with fewer than 2 blocks or no spread).
 double block_z(const std::vector<double>& gain);
+
+/// The outcome of a suspect's confirming refit as text: "adequate", "inadequate",
+/// "refit failed: <why>", or empty when it was not refitted.
+std::string refit_text(const Suspect& suspect);
 
 /// The method of a catalogue effect in the suspect table (NotYet when it has none).
 SuspectMethod suspect_method(EffectId id);
