@@ -219,14 +219,138 @@ void add_terms(TermList& list, std::map<std::string, double>& stderr_, const Dic
   canonicalize(list, what);
 }
 
+// ------------------------------------------------------------------------------- the stages
+
+/// How the data were sampled and what that decides: the estimator, the stride, and the pilot in
+/// the final kinematics (weights of the diffusion fit, Itô correction for the drift selection,
+/// long-run variance factors of the BIC).
+struct SamplingStage {
+  Pilot diag;  ///< at stride 1 (or the requested stride): the sampling diagnosis
+  EstimatorDecision decision;
+  Pilot pilot;
+  int k = 1;
+};
+
+SamplingStage sampling_stage(const PilotInputs& in, const Options& options) {
+  SamplingStage st;
+  int k = options.stride > 0 ? options.stride : 1;
+  if (in.too_short(k))
+    throw Error("records are too short for stride " + std::to_string(k) + " (the shortest has " +
+                std::to_string(in.min_size) + " samples, " +
+                std::to_string(4 * k + static_cast<int>(kMinRecordSamples)) + " needed)");
+  st.diag = in.run(k, options.estimator == Estimator::Noisy ? Target::Noisy : Target::Uli);
+  st.decision = choose_estimator(st.diag, options.estimator);
+  const Estimator est = st.decision.estimator;
+  const Target target = target_of(est);
+  const bool central = uses_central_kinematics(est);
+  st.pilot = st.diag;
+  if (est == Estimator::Noisy && options.stride == 0)
+    st.pilot = noisy_stride_pilot(in, st.pilot, options.noise_share_target);
+  st.k = central ? st.pilot.k : 1;
+  if (!(st.pilot.central == central && st.pilot.k == st.k && st.pilot.target == target))
+    st.pilot = in.run(st.k, target, central);
+  const Kinematics kin(central, st.k, in.dt);
+  finish_pilot(st.pilot, in.data, in.dict.phi, in.dict.psi, kin, in.known);
+  return st;
+}
+
+/// The drift selection from the per-fold drift statistics (Itô correction from the pilot's
+/// diffusion; the noisy estimator's sensor-noise corrections from the pilot's covariances).
+struct DriftSelection {
+  DriftStats total;
+  DriftCorrection corr;
+  double s2 = 0.0;  ///< sensor-noise variance (noisy estimator)
+  std::vector<int> support;
+};
+
+DriftSelection select_drift(const std::vector<DriftStats>& folds, const Dictionaries& dict, const Pilot& pilot,
+                            Estimator est, double h, SelectionOptions selection, Report& rep) {
+  DriftSelection d;
+  d.total = folds[0];
+  for (std::size_t f = 1; f < folds.size(); ++f) d.total.add(folds[f]);
+  const int P = dict.phi.size();
+  rep.fit.rows = static_cast<std::size_t>(d.total.n);
+  rep.fit.drift_condition_full =
+      require_well_conditioned(d.total.Gaug.topLeftCorner(P, P), full_support(P), dict.phi_names, "the drift dictionary");
+  d.corr.ito = uses_central_kinematics(est);
+  d.corr.q = pilot.q;
+  if (est == Estimator::Noisy) d.s2 = set_sensor_noise(pilot.C2k - pilot.C3k, h, d.corr);
+  rep.drift_selection.dictionary = dict.phi.terms();
+  selection.variance_factor = pilot.drift_lr;
+  rep.drift_selection.selection = select_sparse(drift_folds(folds, dict.phi, d.corr), full_support(P), dict.keep_phi, selection);
+  d.support = chosen_fit(rep.drift_selection.selection).support;
+  return d;
+}
+
+/// The diffusion selection from the per-fold residual statistics (the noisy estimator's sensor
+/// noise re-estimated from the drift residuals' covariances, updating `drift.corr`).
+struct DiffusionSelection {
+  ResidualMoments residuals;
+  QuadraticStats total;
+  std::vector<int> support;
+  VectorXd q;
+};
+
+DiffusionSelection select_diffusion(const std::vector<DiffusionStats>& folds, const DiffusionSetup& ds,
+                                    const Dictionaries& dict, const Pilot& pilot, Estimator est, double h,
+                                    SelectionOptions selection, DriftSelection& drift, Report& rep, FitInfo& fit) {
+  DiffusionSelection q;
+  q.residuals = folds[0].mom;
+  for (std::size_t f = 1; f < folds.size(); ++f) q.residuals.add(folds[f].mom);
+  if (est == Estimator::Noisy) {
+    const std::size_t L = ds.lags.size();
+    drift.s2 = set_sensor_noise(q.residuals.autocovariance(L - 2) - q.residuals.autocovariance(L - 1), h, drift.corr);
+    fit.sampling.sensor_noise_sd = std::sqrt(drift.s2);
+  }
+  std::vector<QuadraticStats> qfolds;
+  for (const auto& s : folds) qfolds.push_back(s.quadratic());
+  q.total = total_of(qfolds);
+  const std::vector<int> all = full_support(dict.psi.size());
+  rep.fit.diffusion_condition_full = require_well_conditioned(q.total.G, all, dict.psi_names, "the diffusion dictionary");
+  rep.diffusion_selection.dictionary = dict.psi.terms();
+  selection.variance_factor = pilot.diffusion_lr;
+  rep.diffusion_selection.selection = select_sparse(qfolds, all, dict.keep_psi, selection);
+  const SupportFit& chosen = chosen_fit(rep.diffusion_selection.selection);
+  q.support = chosen.support;
+  q.q = full_coefficients(chosen, dict.psi.size());
+  return q;
+}
+
+/// The drift refitted with the final diffusion (Itô correction) and noise level, the standard
+/// errors at the final (q, s²), and the model's terms.
+void finish_terms(const std::vector<DiffusionStats>& qfolds, const DiffusionSetup& ds, const Dictionaries& dict,
+                  const std::vector<DriftStats>& dfolds, DriftSelection& drift, const DiffusionSelection& diffusion,
+                  Result& res) {
+  const Dictionary& phi = dict.phi;
+  drift.corr.q = diffusion.q;
+  const QuadraticStats drift_total = total_of(drift_folds(dfolds, phi, drift.corr));
+  const std::vector<int>& S = drift.support;
+  const SupportFit cfit = fit_support(drift_total, S);
+  const VectorXd c = full_coefficients(cfit, phi.size());
+  const ScoreSums sums = score_sums(qfolds);
+  const VectorXd se = term_standard_errors(sums, ds, phi, dict.psi.size(), S, diffusion.support, diffusion.q, drift.s2,
+                                           drift_total.G, drift.total.ito, drift.corr.ito, diffusion.total.G);
+  Model& m = res.model;
+  add_terms(m.drift, m.drift_stderr, phi, S, c, se, 0, "identified drift");
+  add_terms(m.diffusion, m.diffusion_stderr, dict.psi, diffusion.support, diffusion.q, se, static_cast<int>(S.size()),
+            "identified diffusion");
+  res.report.fit.drift_condition_selected = cfit.condition;
+  res.report.fit.stderr_batches = sums.batches;
+  res.report.fit.stderr_batch_rows = ds.block_rows;
+}
+
+std::size_t shortest_record(const Dataset& data) {
+  std::size_t n = data.records.front().size;
+  for (const auto& r : data.records) n = std::min(n, r.size);
+  return n;
+}
+
 }  // namespace
 
 Result identify_terms(const Dataset& data, const Options& options) {
   const auto t_start = std::chrono::steady_clock::now();
   const double* known = options.known_force ? options.known_force->data() : nullptr;
   Dictionaries dict = make_dictionaries(options);
-  Dictionary& phi = dict.phi;
-  const Dictionary& psi = dict.psi;
   Result res;
   FitInfo& fit = res.model.fit.emplace();
   Report& rep = res.report;
@@ -236,122 +360,62 @@ Result identify_terms(const Dataset& data, const Options& options) {
     t = now;
   };
 
-  // ---- the records
   require(!data.records.empty(), "no records to identify from");
-  if (phi.uses_u()) require(data.has_u(), "the drift library has the term 'u' but the data have no drive column u");
+  if (dict.phi.uses_u()) require(data.has_u(), "the drift library has the term 'u' but the data have no drive column u");
   RecordChecks checks;
   checks.min_samples = kMinRecordSamples;
   checks.varying_x = true;
   check_records(data, checks);
   lap("validate");
-  const double dt = data.common_dt();
-  std::size_t min_size = data.records.front().size;
-  for (const auto& r : data.records) min_size = std::min(min_size, r.size);
-  const PilotInputs in{data, dict, dt, options.pilot_samples, known, min_size};
 
-  // ---- pilot at ULI stride 1 (or the requested stride): how were the data sampled?
-  int k = options.stride > 0 ? options.stride : 1;
-  if (in.too_short(k))
-    throw Error("records are too short for stride " + std::to_string(k) + " (the shortest has " +
-                std::to_string(min_size) + " samples, " + std::to_string(4 * k + static_cast<int>(kMinRecordSamples)) +
-                " needed)");
-  const Pilot diag = in.run(k, options.estimator == Estimator::Noisy ? Target::Noisy : Target::Uli);
-  const EstimatorDecision decision = choose_estimator(diag, options.estimator);
-  const Estimator est = decision.estimator;
-  const Target target = target_of(est);
-  const bool central = uses_central_kinematics(est);
-  Pilot pilot = diag;
-  if (est == Estimator::Noisy && options.stride == 0) pilot = noisy_stride_pilot(in, pilot, options.noise_share_target);
-  k = central ? pilot.k : 1;
-  const Kinematics kin(central, k, dt);
-  // the pilot in the final kinematics: weights of the diffusion fit, Itô correction for the
-  // drift selection, long-run variance factors of the BIC
-  if (!(pilot.central == kin.central && pilot.k == kin.k && pilot.target == target)) pilot = in.run(k, target, central);
-  finish_pilot(pilot, data, phi, psi, kin, known);
+  const double dt = data.common_dt();
+  const SamplingStage sampling = sampling_stage({data, dict, dt, options.pilot_samples, known, shortest_record(data)}, options);
   lap("pilot");
-  phi.set_sign_kernel_halfwidth(std::max(0.05 * pilot.v_sd, 1e-300));
+  const Pilot& pilot = sampling.pilot;
+  const Pilot& diag = sampling.diag;
+  const Estimator est = sampling.decision.estimator;
+  const bool central = uses_central_kinematics(est);
+  const int k = sampling.k;
+  const Kinematics kin(central, k, dt);
+  dict.phi.set_sign_kernel_halfwidth(std::max(0.05 * pilot.v_sd, 1e-300));
   fit.estimator = est;
   fit.stride = k;
-  fit.sampling = {dt, diag.k, diag.rho_1, diag.rho_k, diag.rho_2k, diag.rho_3k, diag.noise_share, decision.verdict, 0.0};
+  fit.sampling = {dt,          diag.k, diag.rho_1, diag.rho_k, diag.rho_2k, diag.rho_3k, diag.noise_share,
+                  sampling.decision.verdict, 0.0};
 
   const SsrRule rule = options.ssr_rule_set ? options.ssr_rule : est == Estimator::Paper ? SsrRule::AbsCoef : SsrRule::TRatio;
-  Context cx{data, phi, psi, kin};
+  const SelectionOptions selection{options.sparsity, rule, options.criterion, options.stlsq_threshold, 1.0};
+  Context cx{data, dict.phi, dict.psi, kin};
   cx.known = known;
-  const FourthDerivative jerk(phi.terms(), pilot.c, kin.h);
+  const FourthDerivative jerk(dict.phi.terms(), pilot.c, kin.h);
   const bool h2_correction = central && options.discretization_correction;
   if (h2_correction) cx.jerk = &jerk;
   const int F = options.folds;
   const auto spans = make_spans(data, kin, F, 0);
   vehs::detail::ProgressCounter progress(options.progress, "identify", 3 * static_cast<long long>(spans.size()));
 
-  // ---- pass 1: drift statistics per fold, drift selection
+  // pass 1: drift statistics per fold, drift selection
   const auto dstats = drift_pass(cx, central, est == Estimator::Noisy, spans, F, &progress);
-  DriftStats dtotal = dstats[0];
-  for (int f = 1; f < F; ++f) dtotal.add(dstats[static_cast<std::size_t>(f)]);
-  rep.fit.rows = static_cast<std::size_t>(dtotal.n);
   lap("drift_pass");
-  rep.fit.drift_condition_full = require_well_conditioned(dtotal.Gaug.topLeftCorner(phi.size(), phi.size()),
-                                                          full_support(phi.size()), dict.phi_names, "the drift dictionary");
-  DriftCorrection corr;
-  corr.ito = central;
-  corr.q = pilot.q;
-  double s2 = est == Estimator::Noisy ? set_sensor_noise(pilot.C2k - pilot.C3k, kin.h, corr) : 0.0;
-  rep.drift_selection.dictionary = phi.terms();
-  const SelectionOptions selection{options.sparsity, rule, options.criterion, options.stlsq_threshold, 1.0};
-  SelectionOptions drift_selection = selection;
-  drift_selection.variance_factor = pilot.drift_lr;
-  rep.drift_selection.selection =
-      select_sparse(drift_folds(dstats, phi, corr), full_support(phi.size()), dict.keep_phi, drift_selection);
-  const std::vector<int> S = chosen_fit(rep.drift_selection.selection).support;
+  DriftSelection drift = select_drift(dstats, dict, pilot, est, kin.h, selection, rep);
 
-  // ---- pass 2: residuals → weighted diffusion statistics per fold, diffusion selection
-  DiffusionSetup ds =
-      diffusion_setup(pilot, drift_model(phi, S, full_coefficients(chosen_fit(rep.drift_selection.selection), phi.size())), est, k);
-  ds.block_rows = score_batch_rows(options, central, k, rep.fit.rows, S.size() + static_cast<std::size_t>(psi.size()));
+  // pass 2: residuals of the selected drift -> weighted diffusion statistics per fold, selection
+  const VectorXd c = full_coefficients(chosen_fit(rep.drift_selection.selection), dict.phi.size());
+  DiffusionSetup ds = diffusion_setup(pilot, drift_model(dict.phi, drift.support, c), est, k);
+  ds.block_rows = score_batch_rows(options, central, k, rep.fit.rows,
+                                   drift.support.size() + static_cast<std::size_t>(dict.psi.size()));
   const auto qstats = diffusion_pass(cx, ds, spans, F, &progress);
   lap("diffusion_pass");
-  ResidualMoments rtotal = qstats[0].mom;
-  for (int f = 1; f < F; ++f) rtotal.add(qstats[static_cast<std::size_t>(f)].mom);
-  if (est == Estimator::Noisy) {
-    s2 = set_sensor_noise(rtotal.autocovariance(ds.lags.size() - 2) - rtotal.autocovariance(ds.lags.size() - 1), kin.h, corr);
-    fit.sampling.sensor_noise_sd = std::sqrt(s2);
-  }
-  std::vector<QuadraticStats> qfolds;
-  for (const auto& s : qstats) qfolds.push_back(s.quadratic());
-  const QuadraticStats qtotal = total_of(qfolds);
-  const std::vector<int> allq = full_support(psi.size());
-  rep.fit.diffusion_condition_full = require_well_conditioned(qtotal.G, allq, dict.psi_names, "the diffusion dictionary");
-  rep.diffusion_selection.dictionary = psi.terms();
-  SelectionOptions diffusion_selection = selection;
-  diffusion_selection.variance_factor = pilot.diffusion_lr;
-  rep.diffusion_selection.selection = select_sparse(qfolds, allq, dict.keep_psi, diffusion_selection);
-  const SupportFit& chosen_q = chosen_fit(rep.diffusion_selection.selection);
-  const std::vector<int> T = chosen_q.support;
-  const VectorXd q = full_coefficients(chosen_q, psi.size());
+  const DiffusionSelection diffusion = select_diffusion(qstats, ds, dict, pilot, est, kin.h, selection, drift, rep, fit);
 
-  // ---- the drift again with the final diffusion (Itô correction) and noise level
-  corr.q = q;
-  const QuadraticStats drift_total = total_of(drift_folds(dstats, phi, corr));
-  const SupportFit cfit = fit_support(drift_total, S);
-  const VectorXd c = full_coefficients(cfit, phi.size());
-
-  // ---- standard errors at the final (q, s²), the model and the report
   progress.finish();
-  const ScoreSums sums = score_sums(qstats);
-  const VectorXd se = term_standard_errors(sums, ds, phi, psi.size(), S, T, q, s2, drift_total.G, dtotal.ito, corr.ito,
-                                           qtotal.G);
-  Model& m = res.model;
-  add_terms(m.drift, m.drift_stderr, phi, S, c, se, 0, "identified drift");
-  add_terms(m.diffusion, m.diffusion_stderr, psi, T, q, se, static_cast<int>(S.size()), "identified diffusion");
-  rep.estimator = {options.estimator, decision.reason, h2_correction, rule};
-  rep.residuals = residual_report(rtotal, ds, pilot);
+  finish_terms(qstats, ds, dict, dstats, drift, diffusion, res);
+  rep.estimator = {options.estimator, sampling.decision.reason, h2_correction, rule};
+  rep.residuals = residual_report(diffusion.residuals, ds, pilot);
   rep.sparsity = options.sparsity;
   rep.criterion = options.criterion;
   rep.folds = F;
-  rep.fit.drift_condition_selected = cfit.condition;
-  rep.fit.stderr_batches = sums.batches;
-  rep.fit.stderr_batch_rows = ds.block_rows;
-  if (!options.effects.empty()) rep.effect_params = effect_parameters(m, options.effects);
+  if (!options.effects.empty()) rep.effect_params = effect_parameters(res.model, options.effects);
   rep.fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   return res;
 }
