@@ -111,6 +111,67 @@ Compiled compile_terms(const TermList& terms) {
   return c;
 }
 
+/// The simulator's dynamic effects (term-like ones are terms by now).
+void compile_effects(const Model& m, const std::string& where, CompiledModel& cm) {
+  for (const auto& e : m.effects) {
+    switch (e.id) {
+      case EffectId::ImpactStop:
+        cm.impact = true;
+        cm.k_stop = e.param("k_stop");
+        cm.gap = e.param("gap");
+        cm.gap_neg = e.params.count("gap_neg") ? e.param("gap_neg") : cm.gap;
+        break;
+      case EffectId::HarmonicForcing:
+        cm.harmonic = true;
+        cm.amplitude = e.param("amplitude");
+        cm.omega = e.param("omega");
+        cm.phase = e.params.count("phase") ? e.param("phase") : 0.0;
+        break;
+      case EffectId::ElectromechanicalCoupling:
+        cm.electro = true;
+        cm.lambda = e.param("lambda");
+        cm.coupling = e.param("coupling");
+        break;
+      case EffectId::ColoredNoise:
+        cm.colored = true;
+        cm.tau = e.param("tau");
+        cm.intensity = e.param("intensity");
+        break;
+      default:
+        throw Error(where + ": effect '" + e.name() + "' should have been expanded into terms; the simulator cannot treat it");
+    }
+  }
+}
+
+/// The fast polynomial family (CompiledModel::Fast): no extras, drift = p(x) + y·d(x),
+/// a22 = a(x), with small enough degrees; otherwise not eligible.
+void compile_fast(CompiledModel& cm) {
+  if (cm.has_extras || cm.drift.has_nonpoly || cm.diffusion.has_nonpoly || cm.diffusion.by_ypow.size() > 1 ||
+      cm.drift.by_ypow.size() > 2)
+    return;
+  const std::vector<double> pc = cm.drift.by_ypow.empty() ? std::vector<double>{} : cm.drift.by_ypow[0].coefficients();
+  const std::vector<double> dc = cm.drift.by_ypow.size() > 1 ? cm.drift.by_ypow[1].coefficients() : std::vector<double>{};
+  const std::vector<double> ac =
+      cm.diffusion.by_ypow.empty() ? std::vector<double>{} : cm.diffusion.by_ypow[0].coefficients();
+  if (!(pc.size() <= 12 && dc.size() <= 3 && ac.size() <= 5)) return;
+  auto& f = cm.fast;
+  f.eligible = true;
+  f.k = std::max<int>(1, static_cast<int>((pc.size() + 1) / 2));
+  for (std::size_t n = 0; n < pc.size(); ++n) (n % 2 == 0 ? f.even[n / 2] : f.odd[n / 2]) = pc[n];
+  for (std::size_t n = 1; n < pc.size(); ++n) {
+    const std::size_t pw = n - 1;  // power of x in the derivative
+    (pw % 2 == 0 ? f.deven[pw / 2] : f.dodd[pw / 2]) = static_cast<double>(n) * pc[n];
+  }
+  for (std::size_t n = 0; n < dc.size(); ++n) f.damping[n] = dc[n];
+  for (std::size_t n = 0; n < ac.size(); ++n) f.a22[n] = ac[n];
+  for (std::size_t n = 1; n < ac.size(); ++n) f.da22[n - 1] = static_cast<double>(n) * ac[n];
+  for (double c : f.even) f.has_even = f.has_even || c != 0.0;
+  f.damping_poly = f.damping[1] != 0.0 || f.damping[2] != 0.0;
+  f.a22_even2 = f.a22[1] == 0.0 && f.a22[3] == 0.0 && f.a22[4] == 0.0;
+  f.additive = f.a22_even2 && f.a22[2] == 0.0;
+  f.sigma0 = f.additive && f.a22[0] > 0.0 ? std::sqrt(f.a22[0]) : 0.0;
+}
+
 }  // namespace
 
 CompiledModel CompiledModel::from_model(const Model& m, const std::string& where) {
@@ -141,65 +202,9 @@ CompiledModel CompiledModel::from_model(const Model& m, const std::string& where
                            " is negative (a22 is a variance rate and must be >= 0)");
     cm.constant_sigma = std::sqrt(a0);
   }
-  for (const auto& e : m.effects) {
-    switch (e.id) {
-      case EffectId::ImpactStop:
-        cm.impact = true;
-        cm.k_stop = e.param("k_stop");
-        cm.gap = e.param("gap");
-        cm.gap_neg = e.params.count("gap_neg") ? e.param("gap_neg") : cm.gap;
-        break;
-      case EffectId::HarmonicForcing:
-        cm.harmonic = true;
-        cm.amplitude = e.param("amplitude");
-        cm.omega = e.param("omega");
-        cm.phase = e.params.count("phase") ? e.param("phase") : 0.0;
-        break;
-      case EffectId::ElectromechanicalCoupling:
-        cm.electro = true;
-        cm.lambda = e.param("lambda");
-        cm.coupling = e.param("coupling");
-        break;
-      case EffectId::ColoredNoise:
-        cm.colored = true;
-        cm.tau = e.param("tau");
-        cm.intensity = e.param("intensity");
-        break;
-      default:
-        throw Error(where + ": effect '" + e.name() +
-                    "' should have been expanded into terms; the simulator cannot treat it");
-    }
-  }
+  compile_effects(m, where, cm);
   cm.has_extras = cm.drift.drive != 0.0 || cm.impact || cm.harmonic || cm.electro || cm.colored;
-
-  // the fast polynomial family
-  bool fast = !cm.has_extras && !cm.drift.has_nonpoly && !cm.diffusion.has_nonpoly &&
-              cm.diffusion.by_ypow.size() <= 1 && cm.drift.by_ypow.size() <= 2;
-  std::vector<double> pc, dc, ac;
-  if (fast) {
-    pc = cm.drift.by_ypow.empty() ? std::vector<double>{} : cm.drift.by_ypow[0].coefficients();
-    dc = cm.drift.by_ypow.size() > 1 ? cm.drift.by_ypow[1].coefficients() : std::vector<double>{};
-    ac = cm.diffusion.by_ypow.empty() ? std::vector<double>{} : cm.diffusion.by_ypow[0].coefficients();
-    fast = pc.size() <= 12 && dc.size() <= 3 && ac.size() <= 5;
-  }
-  if (fast) {
-    auto& f = cm.fast;
-    f.eligible = true;
-    f.k = std::max<int>(1, static_cast<int>((pc.size() + 1) / 2));
-    for (std::size_t n = 0; n < pc.size(); ++n) (n % 2 == 0 ? f.even[n / 2] : f.odd[n / 2]) = pc[n];
-    for (std::size_t n = 1; n < pc.size(); ++n) {
-      const std::size_t pw = n - 1;  // power of x in the derivative
-      (pw % 2 == 0 ? f.deven[pw / 2] : f.dodd[pw / 2]) = static_cast<double>(n) * pc[n];
-    }
-    for (std::size_t n = 0; n < dc.size(); ++n) f.damping[n] = dc[n];
-    for (std::size_t n = 0; n < ac.size(); ++n) f.a22[n] = ac[n];
-    for (std::size_t n = 1; n < ac.size(); ++n) f.da22[n - 1] = static_cast<double>(n) * ac[n];
-    for (double c : f.even) f.has_even = f.has_even || c != 0.0;
-    f.damping_poly = f.damping[1] != 0.0 || f.damping[2] != 0.0;
-    f.a22_even2 = f.a22[1] == 0.0 && f.a22[3] == 0.0 && f.a22[4] == 0.0;
-    f.additive = f.a22_even2 && f.a22[2] == 0.0;
-    f.sigma0 = f.additive && f.a22[0] > 0.0 ? std::sqrt(f.a22[0]) : 0.0;
-  }
+  compile_fast(cm);
   return cm;
 }
 
