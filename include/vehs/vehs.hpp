@@ -43,3 +43,4 @@
 #include "vehs/diagnose/hypothesis.hpp"
 #include "vehs/diagnose/lens.hpp"
 #include "vehs/diagnose/suspects.hpp"
+#include "vehs/diagnose/verdict.hpp"
