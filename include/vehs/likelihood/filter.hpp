@@ -1,0 +1,86 @@
+#pragma once
+// The exact-discretisation likelihood of measured records under an observed model
+// (observed_model.hpp), by a continuous–discrete Gaussian filter over the model's state
+// (x, y, and the hidden v, η of electromechanical_coupling and colored_noise).
+//
+// Why this filter. CTSM-R's continuous–discrete extended Kalman filter propagates the mean by
+// the drift at the mean and the covariance by the Jacobian at the mean. Here the time update
+// integrates the moment equations of the assumed-density Gaussian filter instead
+// (detail/moment_system.hpp): the mean follows E[f], the covariance E[∂f]·P + P·E[∂f]ᵀ + E[a22],
+// with every expectation exact under the Gaussian — polynomial terms of any degree, and the
+// non-smooth ones (sign(y), y·|y|, the hinges of end stops) in closed form. This is what an
+// unscented filter approximates with 2n+1 sigma points, without its error for degree > 3
+// (x⁹ of the paper's model) and without its coarse treatment of a kink (a sigma point on each
+// side of sign(y)); an EKF would linearise sign(y) to slope 0 almost everywhere and lose the
+// curvature term 3·m·P_xx of x³. The cost is that of an EKF.
+// The time update runs RK4 substeps of these equations over each sampling interval, so it is
+// right at any ω·Δt (no expansion in Δt); the recorded drive is held (zero-order hold, like a
+// DAC) or interpolated linearly between samples.
+//
+// Where the Gaussian approximation is good and where it is not (measured:
+// bench/likelihood_gaussian_check, figures in bench/results/likelihood.txt):
+//  * good when the one-interval predictive law is close to Gaussian: the state moves little
+//    relative to the scale of the drift's nonlinearity during Δt (P_xx·|b2''/b2'| small), which
+//    is the case for sensors sampling ≥ 6–10 points per period with moderate noise, for the
+//    paper's and the Duffing models at ω·Δt ≤ 1 and for Silverbox;
+//  * poor when a single interval can carry the state across a barrier (bistable potentials
+//    with noise comparable to the barrier and Δt comparable to the escape time), where the
+//    predictive law is bimodal: the filter's innovation variance then averages the two wells
+//    and its likelihood differs from a particle filter's by more than its sampling error;
+//  * the first samples of a block depend on data-based priors of the hidden states; with a
+//    hidden state slower than the block (λ or 1/τ ≪ 1/length) those priors matter.
+//
+// Records longer than `block_samples` are filtered as independent blocks (each conditioned on
+// its first sample), so that long single records use both cores; blocks are fixed by the data,
+// not by the thread count, so the result does not depend on it.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "vehs/core/enum_names.hpp"
+#include "vehs/io/measurements.hpp"
+#include "vehs/likelihood/observed_model.hpp"
+
+namespace vehs::likelihood {
+
+enum class InputInterpolation { ZeroOrderHold, Linear };
+inline constexpr EnumNames<InputInterpolation, 2> kInputInterpolationNames{
+    {{InputInterpolation::ZeroOrderHold, "zoh"}, {InputInterpolation::Linear, "linear"}}};
+
+struct FilterOptions {
+  InputInterpolation input = InputInterpolation::ZeroOrderHold;
+  /// RK4 substeps per sampling interval; 0: chosen from the start model's fastest rate ρ over
+  /// the data's range (ρ·h ≤ 0.25, at least 2).
+  int substeps = 0;
+  /// Records longer than this are filtered in independent blocks of about this length.
+  std::size_t block_samples = 1 << 16;
+  int threads = 0;  ///< 0: the OpenMP default
+
+  /// Empty when valid, else a one-line reason.
+  std::string invalid_reason() const;
+};
+
+struct LikelihoodValue {
+  double log_likelihood = 0.0;
+  std::size_t observations = 0;  ///< scored samples (all but the first of each block)
+  int substeps = 0;              ///< RK4 substeps per interval used
+  std::size_t blocks = 0;
+};
+
+/// Log-likelihood of `data` (x, and u when the model has a drive term) under `model`.
+/// Throws vehs::Error with one line for invalid options, a model the filter cannot take, data
+/// that do not fit it (no or short drive, unequal sampling intervals) or a filter that diverges
+/// (naming the record and sample).
+LikelihoodValue log_likelihood(const ObservedModel& model, const Dataset& data,
+                               const FilterOptions& options = {});
+
+/// The filter's one-step predictions of every sample (the first sample of each block has its
+/// own value and zero variance) and the filtered state after each update.
+struct FilterTrace {
+  std::vector<double> predicted_x, predicted_var;  ///< mean and variance of x_k | x_<k (incl. noise)
+  std::vector<double> filtered_x, filtered_y;      ///< mean of x(t_k), y(t_k) | x_≤k
+};
+FilterTrace filter_trace(const ObservedModel& model, const Dataset& data,
+                         const FilterOptions& options = {});
+
+}  // namespace vehs::likelihood

@@ -1,0 +1,52 @@
+#include "vehs/likelihood/filter.hpp"
+
+#include "vehs/core/error.hpp"
+#include "vehs/likelihood/detail/evaluator.hpp"
+
+namespace vehs::likelihood {
+
+std::string FilterOptions::invalid_reason() const {
+  if (substeps < 0) return "substeps must be >= 0 (0: automatic)";
+  if (substeps > 100000) return "substeps must be <= 100000";
+  if (block_samples < 16) return "block_samples must be >= 16";
+  if (threads < 0) return "threads must be >= 0 (0: all)";
+  return "";
+}
+
+namespace {
+
+detail::Parameterization evaluation_parameters(const ObservedModel& model, const Dataset& data) {
+  detail::FitChoice choice;
+  choice.fit_measurement_noise = false;
+  choice.per_record_phase = !model.record_phases.empty();
+  return detail::Parameterization(model, choice, data.records.size(), "likelihood");
+}
+
+}  // namespace
+
+LikelihoodValue log_likelihood(const ObservedModel& model, const Dataset& data,
+                               const FilterOptions& options) {
+  validate_model(model.model, "likelihood: model");
+  const auto p = evaluation_parameters(model, data);
+  const detail::Evaluator ev(p, data, options, "likelihood");
+  LikelihoodValue v;
+  detail::EvaluationFailure f;
+  if (!ev.value(p.initial().data(), v.log_likelihood, &f)) throw Error(ev.message(f));
+  v.observations = ev.observations();
+  v.substeps = ev.settings().substeps;
+  v.blocks = ev.blocks().size();
+  return v;
+}
+
+FilterTrace filter_trace(const ObservedModel& model, const Dataset& data,
+                         const FilterOptions& options) {
+  validate_model(model.model, "likelihood: model");
+  const auto p = evaluation_parameters(model, data);
+  const detail::Evaluator ev(p, data, options, "likelihood");
+  FilterTrace t;
+  detail::EvaluationFailure f;
+  if (!ev.trace(p.initial().data(), t, &f)) throw Error(ev.message(f));
+  return t;
+}
+
+}  // namespace vehs::likelihood
