@@ -126,7 +126,9 @@ Evaluator::Evaluator(const Parameterization& p, const Dataset& data, const Filte
       blk.record = ri;
       blk.first = first;
       blk.data.x = data.x_of(r) + first;
-      blk.data.u = p.structure().drive ? data.u_of(r) + first : nullptr;
+      blk.data.record_u = p.structure().drive ? data.u_of(r) : nullptr;
+      blk.data.record_n = r.size;
+      blk.data.first = first;
       blk.data.n = last - first;
       blk.data.t0 = r.t0 + double(first) * dt;
       blk.data.dt = dt;
@@ -140,7 +142,7 @@ Evaluator::Evaluator(const Parameterization& p, const Dataset& data, const Filte
   p.coefficients(p.initial().data(), p.local_phase() ? &p.initial()[p.phase_index(0)] : nullptr, c0);
   settings_.substeps =
       options.substeps > 0 ? options.substeps : automatic_substeps(p.structure(), c0, data);
-  settings_.linear_input = options.input == InputInterpolation::Linear;
+  settings_.input = options.input;
   threads_ = options.threads > 0 ? options.threads : omp_get_max_threads();
 }
 

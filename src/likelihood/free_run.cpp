@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 
 #include "vehs/core/error.hpp"
-#include "vehs/likelihood/detail/model_structure.hpp"
+#include "vehs/likelihood/detail/input_path.hpp"
 #include "vehs/likelihood/ode.hpp"
 
 namespace vehs::likelihood {
@@ -24,7 +24,8 @@ struct VectorField {
   double k_stop = 0, gap = 0, gap_neg = 0, amplitude = 0, omega = 0, phase = 0, lambda = 0,
          coupling = 0, tau = 1;
   bool impact = false, harmonic = false, electro = false, colored = false;
-  double t0 = 0, inv_dt = 1, u0 = 0, du = 0;
+  double t0 = 0, inv_dt = 1;
+  detail::InputCubic u{};
 
   explicit VectorField(const Model& model, const FreeRunOptions& o) : m(model) {
     for (const auto& e : m.effects) {
@@ -55,8 +56,7 @@ struct VectorField {
     }
   }
   bool operator()(double t, const Eigen::Vector4d& s, Eigen::Vector4d& ds) const {
-    const double u = u0 + (t - t0) * inv_dt * du;
-    double b = m.b2(s[0], s[1], u);
+    double b = m.b2(s[0], s[1], detail::eval_cubic(u, (t - t0) * inv_dt));
     if (impact) b += -k_stop * std::max(s[0] - gap, 0.0) + k_stop * std::max(-s[0] - gap_neg, 0.0);
     if (harmonic) b += amplitude * std::cos(omega * t + phase);
     if (electro) b -= coupling * s[2];
@@ -81,7 +81,6 @@ std::vector<double> free_run(const Model& model, const InitialState& initial,
     throw Error("free run: the input has " + std::to_string(u.size()) + " samples for " +
                 std::to_string(samples) + " samples to simulate");
   VectorField f(model, options);
-  const bool linear = options.input == InputInterpolation::Linear;
   Eigen::Vector4d s(initial.x, initial.y, initial.v, initial.eta);
   std::vector<double> x(samples);
   if (samples == 0) return x;
@@ -90,8 +89,7 @@ std::vector<double> free_run(const Model& model, const InitialState& initial,
     const double t = options.t0 + double(k - 1) * dt;
     f.t0 = t;
     f.inv_dt = 1.0 / dt;
-    f.u0 = drive ? u[k - 1] : 0.0;
-    f.du = drive && linear ? u[k] - u[k - 1] : 0.0;
+    f.u = drive ? detail::input_cubic(u.data(), u.size(), k - 1, options.input) : detail::InputCubic{};
     if (!rk4_propagate(f, t, dt, options.substeps, s) || !s.allFinite() ||
         std::abs(s[0]) > options.divergence_bound || std::abs(s[1]) > options.divergence_bound)
       throw Error("free run: the simulation diverged at sample " + std::to_string(k) +

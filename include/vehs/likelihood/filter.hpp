@@ -15,7 +15,7 @@
 // curvature term 3·m·P_xx of x³. The cost is that of an EKF.
 // The time update runs RK4 substeps of these equations over each sampling interval, so it is
 // right at any ω·Δt (no expansion in Δt); the recorded drive is held (zero-order hold, like a
-// DAC) or interpolated linearly between samples.
+// DAC) or interpolated between samples (linear, cubic, band-limited).
 //
 // Where the Gaussian approximation is good and where it is not (measured:
 // bench/likelihood_gaussian_check, figures in bench/results/likelihood.txt):
@@ -43,9 +43,14 @@
 
 namespace vehs::likelihood {
 
-enum class InputInterpolation { ZeroOrderHold, Linear };
-inline constexpr EnumNames<InputInterpolation, 2> kInputInterpolationNames{
-    {{InputInterpolation::ZeroOrderHold, "zoh"}, {InputInterpolation::Linear, "linear"}}};
+/// How the recorded input is applied between samples (detail/input_path.hpp): held (a DAC),
+/// linear, cubic (Catmull–Rom) or band-limited (windowed-sinc, for anti-aliased inputs).
+enum class InputInterpolation { ZeroOrderHold, Linear, Cubic, BandLimited };
+inline constexpr EnumNames<InputInterpolation, 4> kInputInterpolationNames{
+    {{InputInterpolation::ZeroOrderHold, "zoh"},
+     {InputInterpolation::Linear, "linear"},
+     {InputInterpolation::Cubic, "cubic"},
+     {InputInterpolation::BandLimited, "band_limited"}}};
 
 struct FilterOptions {
   InputInterpolation input = InputInterpolation::ZeroOrderHold;
@@ -53,7 +58,7 @@ struct FilterOptions {
   /// the data's range (ρ·h ≤ 0.25, at least 2).
   int substeps = 0;
   /// Records longer than this are filtered in independent blocks of about this length.
-  std::size_t block_samples = 1 << 16;
+  std::size_t block_samples = 1 << 14;
   int threads = 0;  ///< 0: the OpenMP default
 
   /// Empty when valid, else a one-line reason.

@@ -69,8 +69,8 @@ struct RefineOptions {
   double lr_alpha = 1e-3;
   std::vector<Term> keep_drift, keep_diffusion;
 
-  int max_iterations = 200;           ///< Ceres iterations per round
-  int max_rounds = 6;                 ///< whitening rounds
+  int max_iterations = 20;            ///< Ceres iterations per whitening round
+  int max_rounds = 20;                ///< whitening rounds
   std::size_t warm_start_samples = 200000;
   double step_tolerance = 0.01;       ///< convergence: Newton step below this many SE
   bool progress = false;              ///< one line per fit on stderr

@@ -6,7 +6,7 @@
 // diffuse prior updated with x_0), y ~ N(0, y_prior_var), v ~ N(0, v_prior_var) (data-based
 // priors, the same for every parameter value), η from its stationary law N(0, intensity/2τ).
 // Then for k = 1 … n−1: time update over [t_{k−1}, t_k] by RK4 substeps of the moment equations
-// (the drive held or interpolated between u_{k−1} and u_k), measurement update with
+// (the drive held or interpolated over [t_{k−1}, t_k], input_path.hpp), measurement update with
 // x_k = x(t_k) + ε_k: innovation e_k = x_k − m_x, S_k = P_xx + σ_ε², log-likelihood
 // −½(log 2πS_k + e_k²/S_k), Kalman gain P_{·x}/S_k.
 #include <cmath>
@@ -20,8 +20,11 @@ namespace vehs::likelihood::detail {
 
 struct BlockData {
   const double* x = nullptr;
-  const double* u = nullptr;  ///< null without a drive term
   std::size_t n = 0;
+  /// The whole record's input (null without a drive term) and this block's first index in it
+  /// (interpolation near the block's ends uses the neighbouring samples).
+  const double* record_u = nullptr;
+  std::size_t record_n = 0, first = 0;
   double t0 = 0.0, dt = 0.0;  ///< time of the first sample, sampling interval
   double y_prior_var = 1.0;   ///< prior variance of y at the first sample
   double v_prior_var = 0.0;   ///< prior variance of v at the first sample
@@ -29,7 +32,7 @@ struct BlockData {
 
 struct FilterSettings {
   int substeps = 4;
-  bool linear_input = false;  ///< false: zero-order hold
+  InputInterpolation input = InputInterpolation::ZeroOrderHold;
 };
 
 /// Where and why the filter stopped (no number is returned then).
@@ -67,8 +70,9 @@ T filter_block(const Structure& st, const Coefficients<T>& c, const BlockData& b
   T total{};
   for (std::size_t k = 1; k < b.n; ++k) {
     const double t_prev = b.t0 + double(k - 1) * b.dt;
-    const double u0 = b.u ? b.u[k - 1] : 0.0, u1 = b.u ? b.u[k] : 0.0;
-    sys.set_drive(t_prev, b.dt, u0, u1, fs.linear_input);
+    sys.set_drive(t_prev, b.dt,
+                  b.record_u ? input_cubic(b.record_u, b.record_n, b.first + k - 1, fs.input)
+                             : InputCubic{});
     if (!rk4_propagate(sys, t_prev, b.dt, fs.substeps, s)) {
       fail = {true, k, "the moment equations left the model's domain (a22 < 0 or a variance <= 0)"};
       return T{};

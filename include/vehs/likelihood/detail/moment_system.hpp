@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 
 #include "vehs/likelihood/detail/gaussian_expectations.hpp"
+#include "vehs/likelihood/detail/input_path.hpp"
 #include "vehs/likelihood/detail/model_structure.hpp"
 #include "vehs/likelihood/detail/scalar.hpp"
 
@@ -47,12 +48,11 @@ class MomentSystem {
 
   MomentSystem(const Structure& st, const Coefficients<T>& c) : st_(st), c_(c) {}
 
-  /// The drive u as a function of time over the current interval (set per interval).
-  void set_drive(double t0, double dt, double u0, double u1, bool linear) {
+  /// The drive over the current interval [t0, t0 + dt] (set per interval).
+  void set_drive(double t0, double dt, const InputCubic& u) {
     t0_ = t0;
     inv_dt_ = 1.0 / dt;
-    u0_ = u0;
-    du_ = linear ? (u1 - u0) : 0.0;
+    u_ = u;
   }
 
   /// ds/dt; false when E[a22] < 0 or a variance is not positive (outside the model's domain).
@@ -67,7 +67,7 @@ class MomentSystem {
     if (!(value_of(pyy) > 0.0) || !(value_of(pxx) >= 0.0)) return false;
     const T sx = sqrt(pxx + kVarianceFloor), sy = sqrt(pyy);
     moments_.compute(mx, my, pxx, pxy, pyy, st_.max_px, st_.max_py);
-    const double u = u0_ + (t - t0_) * inv_dt_ * du_;
+    const double u = eval_cubic(u_, (t - t0_) * inv_dt_);
 
     // E[b2] and E[∂b2] (the y row of E[∂f])
     T eb{}, gx{}, gy{};
@@ -154,7 +154,8 @@ class MomentSystem {
   const Structure& st_;
   const Coefficients<T>& c_;
   mutable GaussianMoments<T> moments_;
-  double t0_ = 0.0, inv_dt_ = 1.0, u0_ = 0.0, du_ = 0.0;
+  double t0_ = 0.0, inv_dt_ = 1.0;
+  InputCubic u_{};
 };
 
 }  // namespace vehs::likelihood::detail
