@@ -241,7 +241,9 @@ bool Evaluator::derivatives(const double* theta, Derivatives& out, bool fisher, 
     if (n < need) continue;
     switch (n) {
       case 4: return evaluate_jets<4>(*this, theta, out, fisher, batches, failure);
+      case 6: return evaluate_jets<6>(*this, theta, out, fisher, batches, failure);
       case 8: return evaluate_jets<8>(*this, theta, out, fisher, batches, failure);
+      case 10: return evaluate_jets<10>(*this, theta, out, fisher, batches, failure);
       case 12: return evaluate_jets<12>(*this, theta, out, fisher, batches, failure);
       case 16: return evaluate_jets<16>(*this, theta, out, fisher, batches, failure);
       case 24: return evaluate_jets<24>(*this, theta, out, fisher, batches, failure);

@@ -3,6 +3,8 @@
 
 namespace vehs::likelihood::detail {
 template bool evaluate_jets<4>(const Evaluator&, const double*, Derivatives&, bool, bool, EvaluationFailure*);
+template bool evaluate_jets<6>(const Evaluator&, const double*, Derivatives&, bool, bool, EvaluationFailure*);
 template bool evaluate_jets<8>(const Evaluator&, const double*, Derivatives&, bool, bool, EvaluationFailure*);
+template bool evaluate_jets<10>(const Evaluator&, const double*, Derivatives&, bool, bool, EvaluationFailure*);
 template bool evaluate_jets<12>(const Evaluator&, const double*, Derivatives&, bool, bool, EvaluationFailure*);
 }  // namespace vehs::likelihood::detail

@@ -30,6 +30,11 @@
 //  * the first samples of a block depend on data-based priors of the hidden states; with a
 //    hidden state slower than the block (λ or 1/τ ≪ 1/length) those priors matter.
 //
+// Start of a block: conditioned on its first sample, x ~ N(x_0, measurement_sd²); the hidden
+// states get data-based priors, the same for every parameter value: y ~ N(0, 2·mean over the
+// data of ((x_{k+1} − x_k)/Δt)²), v ~ N(0, 2·Var(x)), and η its stationary law
+// N(0, intensity/2τ). The first sample of a block is not scored.
+//
 // Records longer than `block_samples` are filtered as independent blocks (each conditioned on
 // its first sample), so that long single records use both cores; blocks are fixed by the data,
 // not by the thread count, so the result does not depend on it.

@@ -81,7 +81,7 @@ bool evaluate_jets(const Evaluator& ev, const double* theta, Derivatives& out, b
                    bool batches, EvaluationFailure* failure);
 
 /// Jet sizes compiled; the smallest >= slots is used.
-inline constexpr int kJetSizes[] = {4, 8, 12, 16, 24, 32};
+inline constexpr int kJetSizes[] = {4, 6, 8, 10, 12, 16, 24, 32};
 
 /// The substeps rule of FilterOptions::substeps = 0 (exposed for tests).
 int automatic_substeps(const Structure& st, const Coefficients<double>& c, const Dataset& data);
