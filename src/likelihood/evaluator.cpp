@@ -51,11 +51,13 @@ void check_data(const Structure& st, const Dataset& data, const std::string& whe
 }  // namespace
 
 int automatic_substeps(const Structure& st, const Coefficients<double>& c, const Dataset& data) {
-  double xmin = data.x[0], xmax = data.x[0];
-  for (double v : data.x) {
-    xmin = std::min(xmin, v);
-    xmax = std::max(xmax, v);
-  }
+  // the range of x that carries the data: 0.5 % and 99.5 % quantiles
+  std::vector<double> xs(data.x);
+  const std::size_t lo = xs.size() / 200, hi = xs.size() - 1 - xs.size() / 200;
+  std::nth_element(xs.begin(), xs.begin() + long(lo), xs.end());
+  const double xmin = xs[lo];
+  std::nth_element(xs.begin(), xs.begin() + long(hi), xs.end());
+  const double xmax = xs[hi];
   double vy = 0.0;
   for (const auto& r : data.records) {
     const double* x = data.x_of(r);
@@ -84,7 +86,7 @@ int automatic_substeps(const Structure& st, const Coefficients<double>& c, const
   if (st.harmonic) rho = std::max(rho, std::abs(c.omega));
   if (st.electro) rho = std::max({rho, std::abs(c.lambda), std::sqrt(std::abs(c.coupling))});
   if (st.colored && c.tau > 0.0) rho = std::max(rho, 1.0 / c.tau);
-  const double n = std::ceil(rho * dt / 0.25);
+  const double n = std::ceil(rho * dt / 0.4);
   return int(std::clamp(std::isfinite(n) ? n : 1000.0, 2.0, 1000.0));
 }
 

@@ -33,7 +33,26 @@ Structure Structure::of(const Model& m, const std::string& where) {
     note_powers(tc.term, "diffusion");
     st.diffusion.push_back(tc.term);
   }
+  // moment-table shape: (px, py), (px − 1, py), (px, py − 1) for drift terms, (px, py) for a22
+  auto need = [&](int a, int b) {
+    if (a < 0 || b < 0) return;
+    for (int bb = 0; bb <= b; ++bb) st.a_max_by_b[bb] = std::max(st.a_max_by_b[bb], a);
+  };
+  for (const auto& t : st.drift) {
+    if (t.kind == TermKind::Monomial) {
+      need(t.px, t.py);
+      need(t.px - 1, t.py);
+      need(t.px, t.py - 1);
+    } else if (t.kind != TermKind::Drive) {
+      st.needs_sd = true;
+    }
+  }
+  for (const auto& t : st.diffusion) {
+    if (t.kind == TermKind::Monomial) need(t.px, t.py);
+    else st.needs_sd = true;
+  }
   for (const auto& e : m.effects) {
+    if (e.id == EffectId::ImpactStop) st.needs_sd = true;
     switch (e.id) {
       case EffectId::ImpactStop: st.impact = true; break;
       case EffectId::HarmonicForcing: st.harmonic = true; break;

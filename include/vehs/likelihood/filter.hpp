@@ -59,8 +59,9 @@ inline constexpr EnumNames<InputInterpolation, 4> kInputInterpolationNames{
 
 struct FilterOptions {
   InputInterpolation input = InputInterpolation::ZeroOrderHold;
-  /// RK4 substeps per sampling interval; 0: chosen from the start model's fastest rate ρ over
-  /// the data's range (ρ·h ≤ 0.25, at least 2).
+  /// RK4 substeps per sampling interval; 0: chosen from the start model's fastest linearised
+  /// rate ρ over the central 99 % of the data's x (ρ·h ≤ 0.4, at least 2; at Δt = 0.7 on the
+  /// bistable Duffing the estimates then move by < 0.02 SE against 20 substeps).
   int substeps = 0;
   /// Records longer than this are filtered in independent blocks of about this length.
   std::size_t block_samples = 1 << 14;

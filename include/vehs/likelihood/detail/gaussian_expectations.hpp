@@ -20,19 +20,27 @@ class GaussianMoments {
   static constexpr int kMaxA = 16;  ///< powers of x up to 15
   static constexpr int kMaxB = 6;   ///< powers of y up to 5
 
-  void compute(const T& mx, const T& my, const T& pxx, const T& pxy, const T& pyy, int A, int B) {
+  /// Fills M(a, b) for b ≤ B and a ≤ a_max[b] (a_max non-increasing in b, a_max[b] ≥ 0).
+  void compute(const T& mx, const T& my, const T& pxx, const T& pxy, const T& pyy, const int* a_max,
+               int B) {
     at(0, 0) = T(1.0);
-    for (int a = 0; a < A; ++a) {
+    for (int a = 0; a < a_max[0]; ++a) {
       at(a + 1, 0) = mx * at(a, 0);
-      if (a > 0) at(a + 1, 0) += double(a) * pxx * at(a - 1, 0);
+      if (a > 0) at(a + 1, 0) += (double(a) * pxx) * at(a - 1, 0);
     }
-    for (int b = 0; b < B; ++b)
-      for (int a = 0; a <= A; ++a) {
+    for (int b = 0; b < B && a_max[b + 1] >= 0; ++b)
+      for (int a = 0; a <= a_max[b + 1]; ++a) {
         T v = my * at(a, b);
-        if (a > 0) v += double(a) * pxy * at(a - 1, b);
-        if (b > 0) v += double(b) * pyy * at(a, b - 1);
+        if (a > 0) v += (double(a) * pxy) * at(a - 1, b);
+        if (b > 0) v += (double(b) * pyy) * at(a, b - 1);
         at(a, b + 1) = v;
       }
+  }
+  /// The full table up to a ≤ A, b ≤ B.
+  void compute(const T& mx, const T& my, const T& pxx, const T& pxy, const T& pyy, int A, int B) {
+    int a_max[kMaxB];
+    for (int b = 0; b < kMaxB; ++b) a_max[b] = b <= B ? A : -1;
+    compute(mx, my, pxx, pxy, pyy, a_max, B);
   }
   const T& operator()(int a, int b) const { return m_[a * kMaxB + b]; }
 

@@ -13,6 +13,10 @@ struct Structure {
   std::vector<Term> drift;      ///< b2 terms, in the order of Coefficients::drift
   std::vector<Term> diffusion;  ///< a22 terms, in the order of Coefficients::diffusion
   int max_px = 1, max_py = 1;   ///< moment table: powers of x and y needed (with derivatives)
+  /// Highest power of x needed in the moment table at each power of y (−1: none): the table
+  /// is filled only where a term, a derivative or the recursion reads it.
+  int a_max_by_b[6] = {1, -1, -1, -1, -1, -1};
+  bool needs_sd = false;        ///< a term or effect needs the standard deviations (sign, |y|, stops)
   bool impact = false, harmonic = false, electro = false, colored = false;
   bool drive = false;           ///< a `u` term is present
   int dim() const { return electro || colored ? 4 : 2; }

@@ -65,8 +65,12 @@ class MomentSystem {
     const T& pxy = s[Pk::p(0, 1)];
     const T& pyy = s[Pk::p(1, 1)];
     if (!(value_of(pyy) > 0.0) || !(value_of(pxx) >= 0.0)) return false;
-    const T sx = sqrt(pxx + kVarianceFloor), sy = sqrt(pyy);
-    moments_.compute(mx, my, pxx, pxy, pyy, st_.max_px, st_.max_py);
+    T sx{}, sy{};
+    if (st_.needs_sd) {
+      sx = sqrt(pxx + kVarianceFloor);
+      sy = sqrt(pyy);
+    }
+    moments_.compute(mx, my, pxx, pxy, pyy, st_.a_max_by_b, st_.max_py);
     const double u = eval_cubic(u_, (t - t0_) * inv_dt_);
 
     // E[b2] and E[∂b2] (the y row of E[∂f])
