@@ -278,6 +278,36 @@ Eigen::MatrixXd internal_covariance(const Evaluator& ev, const FitState& st, con
   return W * (Hzinv * Bz * Hzinv) * W.transpose();
 }
 
+/// A moment fit can have a diffusion polynomial that turns negative inside the data's range
+/// (issue 12: 2Q < 0 at coarse sampling), where the filter cannot start. Then every
+/// non-constant diffusion term restarts at a tiny positive value (kept as a parameter) and the
+/// constant at the model's mean a22 over the data; a start that still fails is reported.
+void repair_start(ObservedModel& start, const Dataset& data, const FilterOptions& fo) {
+  try {
+    (void)log_likelihood(start, data, fo);
+    return;
+  } catch (const Error& e) {
+    if (std::string(e.what()).find("a22 < 0") == std::string::npos) throw;
+  }
+  double mean = 0.0;
+  for (double x : data.x) mean += std::max(start.model.a22(x, 0.0), 0.0);
+  mean /= double(data.x.size());
+  if (!(mean > 0.0)) mean = 1e-6;
+  bool has_constant = false;
+  for (auto& tc : start.model.diffusion) {
+    if (tc.term == Term::monomial(0, 0)) {
+      tc.coef = mean;
+      has_constant = true;
+    } else if (tc.coef != 0.0) {
+      tc.coef = 1e-6 * mean;
+    }
+  }
+  if (!has_constant) {
+    start.model.diffusion.push_back({Term::monomial(0, 0), mean});
+    canonicalize(start.model.diffusion, "likelihood: start model");
+  }
+}
+
 }  // namespace
 
 namespace detail {
@@ -366,6 +396,7 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
                                                               : 0.01 * data_sd(data);
     if (!(first.measurement_sd > 0.0)) throw Error("likelihood: the records have zero variance");
   }
+  repair_start(first, data, options.filter);
   if (!options.select) return detail::fit_support(first, data, options, choice, true);
   return detail::select_support(first, data, options, choice);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "vehs/core/error.hpp"
 
@@ -85,6 +86,9 @@ ObservedModel without(const ObservedModel& m, const ParameterInfo& p, FitChoice&
 Result select_support(const ObservedModel& start, const Dataset& data, const RefineOptions& o,
                       FitChoice choice) {
   Result current = fit_support(start, data, o, choice, false);
+  // refits start at the previous optimum: no warm start on a subsample
+  RefineOptions near = o;
+  near.warm_start_samples = std::numeric_limits<std::size_t>::max();
   std::vector<SelectionStep> steps;
   const double n = double(current.summary.observations);
   for (;;) {
@@ -104,7 +108,7 @@ Result select_support(const ObservedModel& start, const Dataset& data, const Ref
     const ParameterInfo& p = current.parameters[std::size_t(best)];
     FitChoice reduced_choice = choice;
     const ObservedModel reduced = without(current.model, p, reduced_choice);
-    Result r = fit_support(reduced, data, o, reduced_choice, false);
+    Result r = fit_support(reduced, data, near, reduced_choice, false);
     SelectionStep st;
     st.removed = p.name;
     st.z = best_z;
@@ -126,7 +130,7 @@ Result select_support(const ObservedModel& start, const Dataset& data, const Ref
     choice = reduced_choice;
   }
   // final fit with the requested covariance
-  Result final = fit_support(current.model, data, o, choice, true);
+  Result final = fit_support(current.model, data, near, choice, true);
   final.summary.selection = steps;
   return final;
 }

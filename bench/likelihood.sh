@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# The likelihood benchmarks of issue 12, written to bench/results/likelihood_<part>.txt:
+#   bench/likelihood.sh [silverbox] [narx] [synthetic] [driven] [effects] [speed] [gaussian]
+# (no argument: all). `narx` installs SysIdentPy (PyPI; an optional dependency of this
+# benchmark only) into build/bench-venv and fits polynomial NARX models on the same Silverbox
+# split. Long: run under nice; the synthetic part takes about an hour on 2 cores.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="${VEHS_BUILD_DIR:-$root/build}"
+out="$root/bench/results"
+mkdir -p "$out"
+parts=("$@")
+[ ${#parts[@]} -eq 0 ] && parts=(silverbox narx synthetic driven effects speed gaussian)
+"$root/scripts/build.sh" bench_likelihood >/dev/null
+bench="$build/bench/bench_likelihood"
+cd "$root"
+run() {  # run PART COMMAND...: output to a temporary file, moved into place when complete
+  local part="$1"; shift
+  local tmp="$out/.likelihood_$part.txt.tmp"
+  { echo "# $(date -u +%F) $(uname -m), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"; "$@"; } >"$tmp"
+  mv "$tmp" "$out/likelihood_$part.txt"
+  cat "$out/likelihood_$part.txt"
+}
+for p in "${parts[@]}"; do
+  case "$p" in
+    silverbox) run silverbox "$bench" silverbox data/silverbox/SNLS80mV.csv ;;
+    narx)
+      venv="$build/bench-venv"
+      [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+      "$venv/bin/python" -c "import sysidentpy" 2>/dev/null || "$venv/bin/pip" install -q sysidentpy
+      run narx "$venv/bin/python" bench/silverbox_narx.py data/silverbox/SNLS80mV.csv ;;
+    synthetic)
+      run synthetic bash -c "
+        '$bench' synthetic bistable 0.35 0    20 3000 8
+        '$bench' synthetic bistable 0.35 0.02 20 3000 8
+        '$bench' synthetic bistable 0.7  0    20 3000 8
+        '$bench' synthetic bistable 0.7  0.02 20 3000 8
+        '$bench' synthetic paper 0.118 0    20 1500 8
+        '$bench' synthetic paper 0.118 0.02 20 1500 8
+        '$bench' synthetic paper 0.236 0    20 1500 8
+        '$bench' synthetic paper 0.236 0.02 20 1500 8" ;;
+    driven) run driven "$bench" driven 20 ;;
+    effects) run effects "$bench" effects 20 ;;
+    speed) run speed "$bench" speed ;;
+    gaussian) run gaussian "$bench" gaussian ;;
+    *) echo "likelihood.sh: unknown part '$p'" >&2; exit 2 ;;
+  esac
+done
