@@ -25,6 +25,8 @@ def load(path):
         r = csv.reader(f)
         next(r)
         for row in r:
+            if len(row) < 2 or not row[0]:
+                continue
             u.append(float(row[0]))
             y.append(float(row[1]))
     u, y = np.array(u), np.array(y)

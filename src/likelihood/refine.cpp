@@ -205,18 +205,28 @@ FitState maximise(const Evaluator& ev, Eigen::VectorXd theta, const RefineOption
   return st;
 }
 
-/// The first share of every record (warm start on large data).
-Dataset leading_share(const Dataset& data, double share) {
+/// A share of the data for the warm start: eight evenly spaced pieces of every record (so that
+/// the piece covers the record's range of amplitudes), or, with per-record parameters (phases),
+/// the leading share of every record (one record per record).
+Dataset warm_start_share(const Dataset& data, double share, bool keep_records) {
   Dataset out;
+  const std::size_t pieces = keep_records ? 1 : 8;
   for (const auto& r : data.records) {
-    const std::size_t n =
-        std::min(r.size, std::max<std::size_t>(std::size_t(std::ceil(share * double(r.size))), 500));
-    Record rr = r;
-    rr.offset = out.x.size();
-    rr.size = n;
-    out.x.insert(out.x.end(), data.x_of(r), data.x_of(r) + n);
-    if (data.has_u()) out.u.insert(out.u.end(), data.u_of(r), data.u_of(r) + n);
-    out.records.push_back(rr);
+    const std::size_t len = std::max<std::size_t>(
+        std::size_t(std::ceil(share * double(r.size) / double(pieces))), 500);
+    for (std::size_t p = 0; p < pieces; ++p) {
+      const std::size_t first = pieces == 1 ? 0 : (r.size - std::min(len, r.size)) * p / (pieces - 1);
+      const std::size_t n = std::min(len, r.size - first);
+      if (n < 2) continue;
+      Record rr = r;
+      rr.offset = out.x.size();
+      rr.size = n;
+      rr.first_line = r.first_line + first;
+      rr.t0 = r.t0 + double(first) * r.dt;
+      out.x.insert(out.x.end(), data.x_of(r) + first, data.x_of(r) + first + n);
+      if (data.has_u()) out.u.insert(out.u.end(), data.u_of(r) + first, data.u_of(r) + first + n);
+      out.records.push_back(rr);
+    }
   }
   return out;
 }
@@ -339,14 +349,21 @@ Result fit_support(const ObservedModel& start, const Dataset& data, const Refine
     s.initial_log_likelihood = ll0;
   }
   if (ev.observations() > o.warm_start_samples) {
-    // warm start on the first eighth of every record (recursively, down to warm_start_samples)
-    const Dataset sub = leading_share(data, 0.125);
+    // warm start on an eighth of the data (recursively, down to warm_start_samples); kept only
+    // when the filter runs on all the data from there (a fit to a part can be unstable elsewhere)
+    const Dataset sub = warm_start_share(data, 0.125, p.local_phase());
     RefineOptions so = o;
     so.filter.substeps = ev.settings().substeps;
     so.progress = false;
-    ObservedModel warm = fit_support(start, sub, so, choice, false).model;
-    const Parameterization pw(warm, choice, data.records.size(), where);
-    theta = Eigen::Map<const Eigen::VectorXd>(pw.initial().data(), Eigen::Index(pw.size()));
+    try {
+      const ObservedModel warm = fit_support(start, sub, so, choice, false).model;
+      const Parameterization pw(warm, choice, data.records.size(), where);
+      double ll = 0.0;
+      if (ev.value(pw.initial().data(), ll, nullptr) && ll > s.initial_log_likelihood)
+        theta = Eigen::Map<const Eigen::VectorXd>(pw.initial().data(), Eigen::Index(pw.size()));
+    } catch (const Error&) {
+      // the warm start failed on the part: start from the given values
+    }
   }
   FitState st = maximise(ev, theta, o, s, where);
   s.final_log_likelihood = st.d.log_likelihood;

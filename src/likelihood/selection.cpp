@@ -91,12 +91,14 @@ Result select_support(const ObservedModel& start, const Dataset& data, const Ref
   near.warm_start_samples = std::numeric_limits<std::size_t>::max();
   std::vector<SelectionStep> steps;
   const double n = double(current.summary.observations);
+  std::vector<std::string> unremovable;  // terms whose reduced model the filter cannot start
   for (;;) {
     int best = -1;
     double best_z = 0.0;
     for (std::size_t i = 0; i < current.parameters.size(); ++i) {
       const ParameterInfo& p = current.parameters[i];
       if (kept(p, o, current.model.model)) continue;
+      if (std::find(unremovable.begin(), unremovable.end(), p.name) != unremovable.end()) continue;
       const double se = current.stderrs[i];
       const double z = se > 0.0 ? std::abs(current.values[i]) / se : 0.0;
       if (best < 0 || z < best_z) {
@@ -108,10 +110,23 @@ Result select_support(const ObservedModel& start, const Dataset& data, const Ref
     const ParameterInfo& p = current.parameters[std::size_t(best)];
     FitChoice reduced_choice = choice;
     const ObservedModel reduced = without(current.model, p, reduced_choice);
-    Result r = fit_support(reduced, data, near, reduced_choice, false);
     SelectionStep st;
     st.removed = p.name;
     st.z = best_z;
+    Result r;
+    try {
+      r = fit_support(reduced, data, near, reduced_choice, false);
+    } catch (const Error& e) {
+      // e.g. removing a damping term leaves a model that is unstable at the data: keep it
+      st.delta = INFINITY;
+      st.threshold = 0.0;
+      st.accepted = false;
+      if (o.progress)
+        std::fprintf(stderr, "likelihood selection: cannot remove %s (%s)\n", p.name.c_str(), e.what());
+      steps.push_back(st);
+      unremovable.push_back(p.name);
+      continue;
+    }
     st.log_likelihood = r.log_likelihood;
     st.delta = 2.0 * (current.log_likelihood - r.log_likelihood);
     if (o.criterion == SelectionCriterion::Bic) {

@@ -29,7 +29,9 @@
 // free term (or the measurement noise) with the smallest |estimate/SE| is removed and the model
 // refitted; the removal is kept when BIC = −2 log L + k log n does not increase (or, with the
 // likelihood-ratio criterion, when 2ΔlogL is below the χ²₁ quantile at 1 − α; the measurement
-// noise sits on the boundary, so there the ½χ²₀ + ½χ²₁ mixture is used). Terms in keep_drift /
+// noise sits on the boundary, so there the ½χ²₀ + ½χ²₁ mixture is used). A term whose removal
+// leaves a model the filter cannot start (an unstable or anti-damped drift at the data) is kept
+// and the next candidate tried. Terms in keep_drift /
 // keep_diffusion, diffusion[1] and effect parameters are never removed.
 #include <cstddef>
 #include <string>
