@@ -28,6 +28,7 @@
 #include "vehs/io/measurements.hpp"
 #include "vehs/likelihood/free_run.hpp"
 #include "vehs/likelihood/refine.hpp"
+#include "vehs/likelihood/signals.hpp"
 #include "vehs/sim/simulate.hpp"
 
 using namespace vehs;
@@ -191,14 +192,7 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
 }
 
 std::vector<double> broadband(std::size_t n, double dt, std::uint64_t seed) {
-  std::mt19937_64 g(seed);
-  std::uniform_real_distribution<double> ph(0.0, 2.0 * M_PI);
-  std::vector<double> u(n, 0.0);
-  for (int j = 1; j <= 40; ++j) {
-    const double w = 0.05 * j, p = ph(g);
-    for (std::size_t i = 0; i < n; ++i) u[i] += 0.09 * std::cos(w * dt * double(i) + p);
-  }
-  return u;
+  return likelihood::random_phase_multisine(n, dt, 40, 0.05, 0.09, seed);
 }
 
 int driven(int seeds) {
@@ -457,19 +451,6 @@ int gaussian() {
   return 0;
 }
 
-Dataset segment(const Dataset& all, std::size_t a, std::size_t b) {
-  Dataset d;
-  Record r = all.records[0];
-  r.offset = 0;
-  r.size = b - a;
-  r.first_line += a;
-  r.t0 = double(a) * r.dt;
-  d.records.push_back(r);
-  d.x.assign(all.x.begin() + long(a), all.x.begin() + long(b));
-  d.u.assign(all.u.begin() + long(a), all.u.begin() + long(b));
-  return d;
-}
-
 int silverbox(const std::string& csv) {
   ReadOptions ro;
   ro.x_column = "V2";
@@ -479,7 +460,7 @@ int silverbox(const std::string& csv) {
   Dataset all = read_measurements(csv, ro);
   subtract_record_means(all);
   const std::size_t e0 = 40650, e1 = 40650 + std::size_t(0.75 * (127400 - 40650));
-  const Dataset est = segment(all, e0, e1);
+  const Dataset est = likelihood::slice_record(all, 0, e0, e1);
   struct Split { const char* name; std::size_t a, b; };
   const Split tests[] = {{"arrow", 100, 40575}, {"arrow, no extrapolation", 100, 32100}, {"multisine test", e1, 127400}};
   auto scores = [&](const Model& m, likelihood::InputInterpolation how) {

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The likelihood benchmarks of issue 12, written to bench/results/likelihood_<part>.txt:
-#   bench/likelihood.sh [silverbox] [narx] [synthetic] [driven] [effects] [speed] [gaussian]
+#   bench/likelihood.sh [silverbox] [narx] [synthetic] [paper] [driven] [effects] [speed] [gaussian]
 # (no argument: all). `narx` installs SysIdentPy (PyPI; an optional dependency of this
 # benchmark only) into build/bench-venv and fits polynomial NARX models on the same Silverbox
 # split. Long: run under nice; the synthetic part takes about an hour on 2 cores.
@@ -10,7 +10,7 @@ build="${VEHS_BUILD_DIR:-$root/build}"
 out="$root/bench/results"
 mkdir -p "$out"
 parts=("$@")
-[ ${#parts[@]} -eq 0 ] && parts=(silverbox narx synthetic driven effects speed gaussian)
+[ ${#parts[@]} -eq 0 ] && parts=(silverbox narx synthetic paper driven effects speed gaussian)
 "$root/scripts/build.sh" bench_likelihood >/dev/null
 bench="$build/bench/bench_likelihood"
 cd "$root"
@@ -31,14 +31,16 @@ for p in "${parts[@]}"; do
       run narx "$venv/bin/python" bench/silverbox_narx.py data/silverbox/SNLS80mV.csv ;;
     synthetic)
       run synthetic bash -c "
-        '$bench' synthetic bistable 0.35 0    20 3000 8
-        '$bench' synthetic bistable 0.35 0.02 20 3000 8
-        '$bench' synthetic bistable 0.7  0    20 3000 8
-        '$bench' synthetic bistable 0.7  0.02 20 3000 8
-        '$bench' synthetic paper 0.118 0    20 1500 8
-        '$bench' synthetic paper 0.118 0.02 20 1500 8
-        '$bench' synthetic paper 0.236 0    20 1500 8
-        '$bench' synthetic paper 0.236 0.02 20 1500 8" ;;
+        '$bench' synthetic bistable 0.35 0    20 2000 8
+        '$bench' synthetic bistable 0.35 0.02 20 2000 8
+        '$bench' synthetic bistable 0.7  0    20 2000 8
+        '$bench' synthetic bistable 0.7  0.02 20 2000 8" ;;
+    paper)
+      run paper bash -c "
+        '$bench' synthetic paper 0.118 0    ${PAPER_SEEDS:-20} 1000 8
+        '$bench' synthetic paper 0.118 0.02 ${PAPER_SEEDS:-20} 1000 8
+        '$bench' synthetic paper 0.236 0    ${PAPER_SEEDS:-20} 1000 8
+        '$bench' synthetic paper 0.236 0.02 ${PAPER_SEEDS:-20} 1000 8" ;;
     driven) run driven "$bench" driven 20 ;;
     effects) run effects "$bench" effects 20 ;;
     speed) run speed "$bench" speed ;;

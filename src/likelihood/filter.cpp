@@ -22,31 +22,38 @@ detail::Parameterization evaluation_parameters(const ObservedModel& model, const
   return detail::Parameterization(model, choice, data.records.size(), "likelihood");
 }
 
+template <class Fn>
+auto with_evaluator(const ObservedModel& model, const Dataset& data, const FilterOptions& options,
+                    Fn fn) {
+  validate_model(model.model, "likelihood: model");
+  const auto p = evaluation_parameters(model, data);
+  const detail::Evaluator ev(p, data, options, "likelihood");
+  return fn(ev, p.initial().data());
+}
+
 }  // namespace
 
 LikelihoodValue log_likelihood(const ObservedModel& model, const Dataset& data,
                                const FilterOptions& options) {
-  validate_model(model.model, "likelihood: model");
-  const auto p = evaluation_parameters(model, data);
-  const detail::Evaluator ev(p, data, options, "likelihood");
-  LikelihoodValue v;
-  detail::EvaluationFailure f;
-  if (!ev.value(p.initial().data(), v.log_likelihood, &f)) throw Error(ev.message(f));
-  v.observations = ev.observations();
-  v.substeps = ev.settings().substeps;
-  v.blocks = ev.blocks().size();
-  return v;
+  return with_evaluator(model, data, options, [](const detail::Evaluator& ev, const double* theta) {
+    LikelihoodValue v;
+    detail::EvaluationFailure f;
+    if (!ev.value(theta, v.log_likelihood, &f)) throw Error(ev.message(f));
+    v.observations = ev.observations();
+    v.substeps = ev.settings().substeps;
+    v.blocks = ev.blocks().size();
+    return v;
+  });
 }
 
 FilterTrace filter_trace(const ObservedModel& model, const Dataset& data,
                          const FilterOptions& options) {
-  validate_model(model.model, "likelihood: model");
-  const auto p = evaluation_parameters(model, data);
-  const detail::Evaluator ev(p, data, options, "likelihood");
-  FilterTrace t;
-  detail::EvaluationFailure f;
-  if (!ev.trace(p.initial().data(), t, &f)) throw Error(ev.message(f));
-  return t;
+  return with_evaluator(model, data, options, [](const detail::Evaluator& ev, const double* theta) {
+    FilterTrace t;
+    detail::EvaluationFailure f;
+    if (!ev.trace(theta, t, &f)) throw Error(ev.message(f));
+    return t;
+  });
 }
 
 }  // namespace vehs::likelihood

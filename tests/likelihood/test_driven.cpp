@@ -7,11 +7,11 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <random>
 
 #include "likelihood_fixtures.hpp"
 #include "vehs/likelihood/free_run.hpp"
 #include "vehs/likelihood/refine.hpp"
+#include "vehs/likelihood/signals.hpp"
 
 using namespace vehs;
 using namespace vehs_lik_test;
@@ -24,14 +24,7 @@ Model driven_duffing() {
 
 /// Sum of 40 sines with random phases over (0, 2] rad per time unit (broadband around ω = 1).
 std::vector<double> broadband(std::size_t n, double dt, std::uint64_t seed) {
-  std::mt19937_64 g(seed);
-  std::uniform_real_distribution<double> ph(0.0, 2.0 * M_PI);
-  std::vector<double> u(n, 0.0);
-  for (int j = 1; j <= 40; ++j) {
-    const double w = 0.05 * j, p = ph(g);
-    for (std::size_t i = 0; i < n; ++i) u[i] += 0.09 * std::cos(w * dt * double(i) + p);
-  }
-  return u;
+  return likelihood::random_phase_multisine(n, dt, 40, 0.05, 0.09, seed);
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 #include "vehs/likelihood/filter.hpp"
 #include "vehs/likelihood/free_run.hpp"
 #include "vehs/likelihood/refine.hpp"
+#include "vehs/likelihood/signals.hpp"
 
 using namespace vehs;
 using namespace vehs_lik_test;
@@ -32,14 +33,7 @@ Model linear_model() {
 }
 
 std::vector<double> broadband_drive(std::size_t n, double dt, std::uint64_t seed) {
-  std::mt19937_64 g(seed);
-  std::uniform_real_distribution<double> ph(0.0, 2.0 * M_PI);
-  std::vector<double> u(n, 0.0);
-  for (int j = 1; j <= 12; ++j) {
-    const double w = 0.25 * j, p = ph(g);
-    for (std::size_t i = 0; i < n; ++i) u[i] += 0.3 * std::cos(w * dt * double(i) + p);
-  }
-  return u;
+  return likelihood::random_phase_multisine(n, dt, 12, 0.25, 0.3, seed);
 }
 
 /// Exact log-likelihood of the linear model by a discrete Kalman filter (priors as filter.hpp).

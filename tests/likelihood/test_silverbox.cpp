@@ -12,25 +12,10 @@
 #include "vehs/io/measurements.hpp"
 #include "vehs/likelihood/free_run.hpp"
 #include "vehs/likelihood/refine.hpp"
+#include "vehs/likelihood/signals.hpp"
 
 using namespace vehs;
 
-namespace {
-
-Dataset segment(const Dataset& all, std::size_t a, std::size_t b) {
-  Dataset d;
-  Record r = all.records[0];
-  r.offset = 0;
-  r.size = b - a;
-  r.first_line += a;
-  r.t0 = double(a) * r.dt;
-  d.records.push_back(r);
-  d.x.assign(all.x.begin() + long(a), all.x.begin() + long(b));
-  d.u.assign(all.u.begin() + long(a), all.u.begin() + long(b));
-  return d;
-}
-
-}  // namespace
 
 TEST_CASE("Silverbox: a six-term physical model fitted by the likelihood beats 2 mV on the arrow "
           "and 1.5 mV on the multisine test", "[likelihood][silverbox][slow]") {
@@ -41,7 +26,7 @@ TEST_CASE("Silverbox: a six-term physical model fitted by the likelihood beats 2
   ro.require_u = true;
   Dataset all = read_measurements(std::string(VEHS_SOURCE_DIR) + "/data/silverbox/SNLS80mV.csv", ro);
   subtract_record_means(all);
-  const Dataset est = segment(all, 40650, 40650 + 16384);
+  const Dataset est = likelihood::slice_record(all, 0, 40650, 40650 + 16384);
   likelihood::ObservedModel start;
   const double w2 = std::pow(2.0 * M_PI * 67.0, 2);
   start.model = model_from_json(
