@@ -14,6 +14,7 @@
 #include <omp.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -494,29 +495,50 @@ int silverbox(const std::string& csv) {
   }
   io.estimator = identify::Estimator::Uli;
   io.sparsity = identify::Sparsity::None;
+  io.diffusion_library = terms({"1"});
   const auto start = identify::identify(est, io);
-  for (auto how : {likelihood::InputInterpolation::ZeroOrderHold, likelihood::InputInterpolation::Linear,
-                   likelihood::InputInterpolation::Cubic, likelihood::InputInterpolation::BandLimited}) {
+  io.diffusion_library = terms({"1", "x^2"});
+  const auto start_x2 = identify::identify(est, io);
+  // the physical model: output offset, asymmetric and cubic spring, damping, input gain
+  Model physical = start.model;
+  physical.drift.erase(std::remove_if(physical.drift.begin(), physical.drift.end(),
+                                      [](const TermCoef& tc) { return tc.term == Term::parse("x*y") || tc.term == Term::parse("x^2*y"); }),
+                       physical.drift.end());
+  struct Row { std::string name; const Model* start; bool select; likelihood::InputInterpolation how; };
+  using II = likelihood::InputInterpolation;
+  const Row rows[] = {
+      {"likelihood, BIC from the 8 drift terms, a22 = const, input zoh", &start.model, true, II::ZeroOrderHold},
+      {"likelihood, BIC from the 8 drift terms, a22 = const, input linear", &start.model, true, II::Linear},
+      {"likelihood, BIC from the 8 drift terms, a22 = const, input cubic", &start.model, true, II::Cubic},
+      {"likelihood, BIC from the 8 drift terms, a22 = const, band_limited", &start.model, true, II::BandLimited},
+      {"likelihood, BIC from 8 drift terms and a22 = 1, x^2, band_limited", &start_x2.model, true, II::BandLimited},
+      {"likelihood, physical 6 terms (1,x,x^2,x^3,y,u), band_limited", &physical, false, II::BandLimited},
+  };
+  for (const Row& row : rows) {
     likelihood::RefineOptions o;
-    o.filter.input = how;
-    o.select = true;
+    o.filter.input = row.how;
+    o.select = row.select;
     o.covariance = likelihood::Covariance::Fisher;
     const auto t0 = Clock::now();
-    const auto r = likelihood::refine({start.model, 0.0, {}}, est, o);
+    likelihood::Result r;
+    try {
+      r = likelihood::refine({*row.start, 0.0, {}}, est, o);
+    } catch (const Error& e) {
+      std::printf("%-66s error: %s\n", row.name.c_str(), e.what());
+      continue;
+    }
     const double sec = seconds_since(t0);
     std::size_t n = 0;
     for (const auto& tc : r.model.model.drift) n += tc.coef != 0.0;
-    std::printf("%-66s%s %6zu %7.1f\n",
-                (std::string("likelihood, BIC selection from the 8 terms, input ") + enum_to_string(likelihood::kInputInterpolationNames, how)).c_str(),
-                scores(r.model.model, how).c_str(), n, sec);
-    if (how == likelihood::InputInterpolation::BandLimited) {
-      std::printf("  selected model (input band_limited), log L %.1f, %s:\n", r.log_likelihood, r.summary.BriefReport().c_str());
-      for (std::size_t i = 0; i < r.parameters.size(); ++i)
-        std::printf("    %-18s %16.8g +- %10.3g\n", r.parameters[i].name.c_str(), r.values[i], r.stderrs[i]);
-      for (const auto& st : r.summary.selection)
-        std::printf("    selection: remove %-14s |z| %8.3g, 2 dlogL %10.4g vs %.3g: %s\n", st.removed.c_str(), st.z, st.delta,
-                    st.threshold, st.accepted ? "removed" : "kept");
-    }
+    std::printf("%-66s%s %6zu %7.1f\n", row.name.c_str(), scores(r.model.model, row.how).c_str(), n, sec);
+    std::printf("    log L %.1f; %s\n", r.log_likelihood, r.summary.BriefReport().c_str());
+    for (std::size_t i = 0; i < r.parameters.size(); ++i)
+      std::printf("    %-18s %16.8g +- %10.3g\n", r.parameters[i].name.c_str(), r.values[i], r.stderrs[i]);
+    for (const auto& st : r.summary.selection)
+      std::printf("    selection: remove %-14s |z| %8.3g, 2 dlogL %10.4g vs %.3g: %s\n", st.removed.c_str(), st.z, st.delta,
+                  st.threshold, st.accepted ? "removed" : "kept");
+    if (std::getenv("VEHS_SILVERBOX_MODEL") && !row.select)
+      std::printf("    model file: %s\n", model_to_json(r.model.model).dump().c_str());
     std::fflush(stdout);
   }
   std::printf("\n");

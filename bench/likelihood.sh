@@ -11,8 +11,9 @@ out="$root/bench/results"
 mkdir -p "$out"
 parts=("$@")
 [ ${#parts[@]} -eq 0 ] && parts=(silverbox narx synthetic paper driven effects speed gaussian)
-"$root/scripts/build.sh" bench_likelihood >/dev/null
 bench="$build/bench/bench_likelihood"
+# build it unless present (a rebuild with other settings would rebuild the whole tree)
+[ -x "$bench" ] || "$root/scripts/build.sh" bench_likelihood >/dev/null
 cd "$root"
 run() {  # run PART COMMAND...: output to a temporary file, moved into place when complete
   local part="$1"; shift
