@@ -17,8 +17,8 @@
 // right at any ω·Δt (no expansion in Δt); the recorded drive is held (zero-order hold, like a
 // DAC) or interpolated between samples (linear, cubic, band-limited).
 //
-// Where the Gaussian approximation is good and where it is not (measured:
-// bench/likelihood_gaussian_check, figures in bench/results/likelihood.txt):
+// Where the Gaussian approximation is good and where it is not (measured against a particle
+// filter: `bench/likelihood.sh gaussian`, bench/results/likelihood_gaussian.txt):
 //  * good when the one-interval predictive law is close to Gaussian: the state moves little
 //    relative to the scale of the drift's nonlinearity during Δt (P_xx·|b2''/b2'| small), which
 //    is the case for sensors sampling ≥ 6–10 points per period with moderate noise, for the
