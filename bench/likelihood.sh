@@ -42,8 +42,8 @@ for p in "${parts[@]}"; do
         '$bench' synthetic paper 0.118 0.02 ${PAPER_SEEDS:-20} 1000 8
         '$bench' synthetic paper 0.236 0    ${PAPER_SEEDS:-20} 1000 8
         '$bench' synthetic paper 0.236 0.02 ${PAPER_SEEDS:-20} 1000 8" ;;
-    driven) run driven "$bench" driven 20 ;;
-    effects) run effects "$bench" effects 20 ;;
+    driven) run driven "$bench" driven "${SEEDS:-20}" ;;
+    effects) run effects "$bench" effects "${SEEDS:-20}" ;;
     speed) run speed "$bench" speed ;;
     gaussian) run gaussian "$bench" gaussian ;;
     *) echo "likelihood.sh: unknown part '$p'" >&2; exit 2 ;;

@@ -210,12 +210,12 @@ FitState maximise(const Evaluator& ev, Eigen::VectorXd theta, const RefineOption
 /// the leading share of every record (one record per record).
 Dataset warm_start_share(const Dataset& data, double share, bool keep_records) {
   Dataset out;
-  const std::size_t pieces = keep_records ? 1 : 8;
   for (const auto& r : data.records) {
-    const std::size_t len = std::max<std::size_t>(
-        std::size_t(std::ceil(share * double(r.size) / double(pieces))), 500);
+    const std::size_t want = std::min(r.size, std::max<std::size_t>(std::size_t(std::ceil(share * double(r.size))), 64));
+    const std::size_t pieces = keep_records ? 1 : std::max<std::size_t>(1, std::min<std::size_t>(8, want / 250));
+    const std::size_t len = (want + pieces - 1) / pieces;
     for (std::size_t p = 0; p < pieces; ++p) {
-      const std::size_t first = pieces == 1 ? 0 : (r.size - std::min(len, r.size)) * p / (pieces - 1);
+      const std::size_t first = pieces == 1 ? 0 : (r.size - len) * p / (pieces - 1);
       const std::size_t n = std::min(len, r.size - first);
       if (n < 2) continue;
       Record rr = r;
@@ -352,17 +352,19 @@ Result fit_support(const ObservedModel& start, const Dataset& data, const Refine
     // warm start on an eighth of the data (recursively, down to warm_start_samples); kept only
     // when the filter runs on all the data from there (a fit to a part can be unstable elsewhere)
     const Dataset sub = warm_start_share(data, 0.125, p.local_phase());
-    RefineOptions so = o;
-    so.filter.substeps = ev.settings().substeps;
-    so.progress = false;
-    try {
-      const ObservedModel warm = fit_support(start, sub, so, choice, false).model;
-      const Parameterization pw(warm, choice, data.records.size(), where);
-      double ll = 0.0;
-      if (ev.value(pw.initial().data(), ll, nullptr) && ll > s.initial_log_likelihood)
-        theta = Eigen::Map<const Eigen::VectorXd>(pw.initial().data(), Eigen::Index(pw.size()));
-    } catch (const Error&) {
-      // the warm start failed on the part: start from the given values
+    if (2 * sub.x.size() <= data.x.size()) {  // (records too short to share: no warm start)
+      RefineOptions so = o;
+      so.filter.substeps = ev.settings().substeps;
+      so.progress = false;
+      try {
+        const ObservedModel warm = fit_support(start, sub, so, choice, false).model;
+        const Parameterization pw(warm, choice, data.records.size(), where);
+        double ll = 0.0;
+        if (ev.value(pw.initial().data(), ll, nullptr) && ll > s.initial_log_likelihood)
+          theta = Eigen::Map<const Eigen::VectorXd>(pw.initial().data(), Eigen::Index(pw.size()));
+      } catch (const Error&) {
+        // the warm start failed on the part: start from the given values
+      }
     }
   }
   FitState st = maximise(ev, theta, o, s, where);
