@@ -344,10 +344,12 @@ int speed() {
 
 
 /// Bootstrap particle filter of the same observed model (bistable drift, additive noise):
-/// Euler–Maruyama with 50 substeps per interval, systematic resampling, the filter's priors.
+/// semi-implicit Euler–Maruyama (velocity first: explicit Euler would add energy at a rate
+/// comparable to the damping) with 40 substeps per interval, systematic resampling, the
+/// filter's priors.
 double particle_log_likelihood(const Model& m, double r, const Dataset& d, int particles, std::uint64_t seed) {
   const double dt = d.records[0].dt;
-  const int sub = 20;
+  const int sub = 40;
   const double h = dt / sub, sq = std::sqrt(m.a22(0, 0) * h);
   double s2 = 0, nd = 0;
   for (const auto& rec : d.records)
@@ -375,10 +377,9 @@ double particle_log_likelihood(const Model& m, double r, const Dataset& d, int p
 #pragma omp for
         for (int i = 0; i < particles; ++i) {
           double a = x[std::size_t(i)], b = y[std::size_t(i)];
-          for (int j = 0; j < sub; ++j) {
-            const double f = m.b2(a, b);
+          for (int j = 0; j < sub; ++j) {  // semi-implicit (symplectic) Euler: no energy drift
+            b += m.b2(a, b) * h + sq * n2(gl);
             a += b * h;
-            b += f * h + sq * n2(gl);
           }
           x[std::size_t(i)] = a;
           y[std::size_t(i)] = b;
@@ -412,7 +413,7 @@ double particle_log_likelihood(const Model& m, double r, const Dataset& d, int p
 }
 
 int gaussian() {
-  std::printf("# Gaussian filter vs particle filter (5000 particles, Euler-Maruyama h = dt/20, 4 runs for its "
+  std::printf("# Gaussian filter vs particle filter (5000 particles, semi-implicit Euler-Maruyama h = dt/40, 4 runs for its "
               "Monte Carlo error): bistable U = -x^2/2 + x^4/4, beta 0.1, 2D = 0.04 (and 2D = 0.16: barrier/noise 4x "
               "lower, frequent crossings), sensor noise 0.05, 2 records x 250 samples\n");
   std::printf("%-6s %-5s %12s %12s %9s %14s %14s %9s\n", "2D", "dt", "logL filter", "logL PF", "PF se",

@@ -9,6 +9,13 @@
 // parameters, the measurement noise and (optionally) one harmonic_forcing phase per record —
 // see parameters.hpp for names and the log scale of positive quantities.
 //
+// The optimiser is local: a start must lie in the basin of the optimum. Dynamic-effect
+// parameters are the delicate ones — the likelihood in harmonic_forcing.omega has side lobes
+// every 2π/T_record, so omega must start within about π/T_record (identify's spectral scan
+// provides that); gaps, λ and τ tolerate starts 20 % off (tests/likelihood/test_effects.cpp).
+// A start whose diffusion turns negative inside the data (a moment fit at coarse sampling) is
+// repaired: the non-constant a22 terms restart at tiny positive values.
+//
 // Conditioning. The optimiser works in whitened coordinates θ = θ₀ + W z with W Wᵀ the inverse
 // Fisher information of the innovations at θ₀ (one derivative pass), so that a unit step is one
 // standard error in every direction and BFGS's first step is a Fisher-scoring step; after each
