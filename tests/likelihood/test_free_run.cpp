@@ -29,7 +29,7 @@ TEST_CASE("free run of a damped linear oscillator equals the closed-form solutio
   CHECK(worst < 1e-7);
 }
 
-TEST_CASE("free run with a held input equals the exact discretisation; validation scores",
+TEST_CASE("free run with a held input equals the exact discretisation, and its validation scores",
           "[likelihood][free_run]") {
   const Model m = model(R"({"drift": {"x": -2.0, "y": -0.3, "u": 0.5}, "diffusion": {"1": 0.0}})");
   const double dt = 0.4;
