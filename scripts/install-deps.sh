@@ -7,6 +7,8 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev nlohmann-json3-dev catch2
   libcli11-dev libfast-float-dev libbenchmark-dev
+  # Ceres Solver: maximum likelihood with automatic derivatives (likelihood area)
+  libceres-dev
   gnuplot-nox chromium
   # an optimised BLAS for UMFPACK's dense kernels (Debian's BLAS alternative: libsuitesparse
   # links libblas.so.3, which this package provides with priority over the reference BLAS;

@@ -44,3 +44,11 @@
 #include "vehs/diagnose/lens.hpp"
 #include "vehs/diagnose/suspects.hpp"
 #include "vehs/diagnose/verdict.hpp"
+// likelihood: Gaussian-filter likelihood, maximum likelihood (Ceres), free-run validation
+#include "vehs/likelihood/filter.hpp"
+#include "vehs/likelihood/free_run.hpp"
+#include "vehs/likelihood/observed_model.hpp"
+#include "vehs/likelihood/ode.hpp"
+#include "vehs/likelihood/parameters.hpp"
+#include "vehs/likelihood/refine.hpp"
+#include "vehs/likelihood/signals.hpp"
