@@ -15,6 +15,7 @@
 #include "vehs/core/terms.hpp"
 // io: measurement files, model files, atomic outputs
 #include "vehs/io/atomic_file.hpp"
+#include "vehs/io/json_file.hpp"
 #include "vehs/io/measurements.hpp"
 #include "vehs/io/model_file.hpp"
 // sim: ensembles, steppers, random numbers

@@ -1,15 +1,10 @@
 #include "unit_math.hpp"
 
-#include <sstream>
+#include "vehs/core/detail/format.hpp"
 
 namespace vehs::diagnose::detail {
 
-std::string fmt(double v, int digits) {
-  std::ostringstream os;
-  os.precision(digits);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v, int digits) { return vehs::detail::format_number(v, digits); }
 
 double quantile(std::vector<double>& v, double q) {
   if (v.empty()) return 0.0;

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "vehs/conventions.hpp"
+#include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/fpk/solve.hpp"
 
@@ -15,12 +15,7 @@ namespace vehs::fpk {
 constexpr double kMaxUndershoot = 1e-3;
 
 namespace {
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(4);
-  os << v;
-  return os.str();
-}
+std::string num(double v) { return vehs::detail::format_number(v, 4); }
 }  // namespace
 
 std::vector<Well> find_wells(const FpkModel& model, double lo, double hi) {

@@ -8,9 +8,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "term_fit.hpp"
+#include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/identify/dynamic.hpp"
 
@@ -22,12 +22,7 @@ using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(5);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v) { return vehs::detail::format_number(v, 5); }
 
 /// M = ∫ tent(u) e^{u/τ} du for the tent kernel of half-width h (unit mass): 2(cosh z − 1)/z².
 double tent_exp_mean(double z) {

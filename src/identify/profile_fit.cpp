@@ -6,11 +6,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "profile_problem.hpp"
 #include "profile_search.hpp"
 #include "term_fit.hpp"
+#include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/identify/dynamic.hpp"
 
@@ -22,12 +22,7 @@ using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(5);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v) { return vehs::detail::format_number(v, 5); }
 
 struct FitOut {
   VectorXd z;        // (c, β) at θ̂

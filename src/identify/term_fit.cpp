@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -13,6 +12,7 @@
 #include "drift_pass.hpp"
 #include "pilot.hpp"
 #include "standard_errors.hpp"
+#include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
 
 namespace vehs::identify::detail {
@@ -24,12 +24,7 @@ using Eigen::VectorXd;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr std::size_t kMinRecordSamples = 16;
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(4);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v) { return vehs::detail::format_number(v, 4); }
 
 // ---------------------------------------------------------------------------- dictionaries
 

@@ -1,10 +1,10 @@
 #include "vehs/io/model_file.hpp"
 
 #include <cmath>
-#include <fstream>
 
 #include "vehs/core/error.hpp"
 #include "vehs/io/atomic_file.hpp"
+#include "vehs/io/json_file.hpp"
 
 namespace vehs {
 
@@ -198,14 +198,7 @@ Model model_from_json(const nlohmann::json& j, const std::string& where, nlohman
 }
 
 ModelFile read_model_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open model file");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::parse_error& e) {
-    throw Error(path + ": not valid JSON (" + std::string(e.what()) + ")");
-  }
+  const nlohmann::json j = read_json_file(path, "model file");
   ModelFile f;
   f.model = model_from_json(j, path, &f.sections);
   return f;

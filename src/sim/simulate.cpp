@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "engine.hpp"
+#include "vehs/core/detail/format.hpp"
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/error.hpp"
 
@@ -19,12 +20,7 @@ using detail::XPolynomial;
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
+std::string num(double v) { return vehs::detail::format_number(v, 6); }
 
 bool all_finite(const std::vector<double>& v) {
   for (double d : v)

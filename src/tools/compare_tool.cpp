@@ -2,13 +2,13 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <set>
 
 #include "vehs/core/error.hpp"
 #include "vehs/core/parameters.hpp"
 #include "tools/table.hpp"
+#include "vehs/io/json_file.hpp"
 #include "vehs/io/model_file.hpp"
 
 namespace vehs::tools {
@@ -28,16 +28,6 @@ ConfigSchema make_schema() {
            {"monte_carlo", "path", "statistics JSON of simulate-vehs (with stderr)", "", true},
            {"output", "path", "also write the parameter table as CSV here", "", true}},
           "Example: vehs-compare data/paper/compare.json"};
-}
-
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open");
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw Error(path + ": not valid JSON");
-  }
 }
 
 double stat(const nlohmann::json& j, const std::string& key, const std::string& file) {
@@ -119,8 +109,8 @@ int run_compare(Config& c, const AppOptions&) {
   if (c.has("fpk") || c.has("monte_carlo")) {
     std::printf("\nStationary response of the learned model (mean power E(P) is proportional to E[Y^2]):\n");
     nlohmann::json fpk, mc;
-    if (c.has("fpk")) fpk = read_json(c.string("fpk"));
-    if (c.has("monte_carlo")) mc = read_json(c.string("monte_carlo"));
+    if (c.has("fpk")) fpk = read_json_file(c.string("fpk"), "FPK result");
+    if (c.has("monte_carlo")) mc = read_json_file(c.string("monte_carlo"), "Monte Carlo statistics");
     for (const char* key : {"E[X^2]", "E[Y^2]", "E[XY]"}) {
       std::printf("  %-7s", key);
       if (c.has("fpk")) std::printf("  FPK %.6f", stat(fpk, key, c.string("fpk")));

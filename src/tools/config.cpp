@@ -4,11 +4,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <unistd.h>
 
 #include "vehs/core/error.hpp"
+#include "vehs/io/json_file.hpp"
 
 namespace vehs::tools {
 
@@ -86,15 +86,7 @@ Config::Config(nlohmann::json value, std::string file, std::string path)
     : value_(std::move(value)), file_(std::move(file)), path_(std::move(path)) {}
 
 Config Config::load(const std::string& file, const ConfigSchema& schema) {
-  std::ifstream in(file);
-  if (!in) throw Error(file + ": cannot open config file");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::parse_error& e) {
-    std::string what = e.what();
-    throw Error(file + ": not valid JSON (" + what.substr(what.find(']') + 2) + ")");
-  }
+  nlohmann::json j = read_json_file(file, "config file");
   if (!j.is_object()) throw Error(file + ": a config must be a JSON object");
   Config c(std::move(j), file);
   std::vector<std::string> allowed;

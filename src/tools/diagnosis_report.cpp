@@ -6,6 +6,7 @@
 
 #include "tools/diagnosis_file.hpp"
 #include "tools/table.hpp"
+#include "vehs/core/detail/format.hpp"
 
 namespace vehs::tools {
 
@@ -13,13 +14,7 @@ using namespace vehs::diagnose;
 
 namespace {
 
-std::string g(double v, int digits = 4) {
-  if (!std::isfinite(v)) return "-";
-  std::ostringstream os;
-  os.precision(digits);
-  os << v;
-  return os.str();
-}
+std::string g(double v, int digits = 4) { return std::isfinite(v) ? vehs::detail::format_number(v, digits) : "-"; }
 
 std::string pm(double v, double se) { return g(v) + " ± " + g(se, 2); }
 

@@ -14,6 +14,7 @@
 #include "vehs/identify/dynamic.hpp"
 #include "vehs/io/measurements.hpp"
 #include "vehs/io/model_file.hpp"
+#include "vehs/core/detail/format.hpp"
 
 namespace vehs::tools {
 
@@ -123,12 +124,7 @@ sim::InitialCondition parse_x0(const Config& c, const std::string& key, int reco
   c.fail(key, "must be {\"uniform\": [a, b]} or a list of one value per record");
 }
 
-std::string g(double v, int digits = 6) {
-  std::ostringstream os;
-  os.precision(digits);
-  os << v;
-  return os.str();
-}
+std::string g(double v, int digits = 6) { return vehs::detail::format_number(v, digits); }
 
 }  // namespace
 

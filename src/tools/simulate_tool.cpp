@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "tools/statistics_file.hpp"
+#include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/io/measurements.hpp"
@@ -103,12 +104,7 @@ const ConfigSchema& simulate_schema() {
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
+std::string num(double v) { return vehs::detail::format_number(v, 10); }
 
 // {"uniform": [a, b]}
 bool parse_uniform(const Config& c, const std::string& key, double& lo, double& hi) {
