@@ -1121,6 +1121,8 @@ Result identify_dynamic(const Dataset& data, const Options& options) {
         }
       }
       P.phi.set_sign_kernel_halfwidth(std::max(0.05 * std::sqrt(v2 / std::max(nv, 1.0)), 1e-300));
+      // sign(y) as the tent-averaged acceleration sees it (smoothed_sign.hpp; sensor noise neglected)
+      if (P.central) P.phi.set_sign_smoothing(P.h, cur.model.diffusion, 1e-300, 0.0);
     }
     P.comps = comps;
     nlohmann::ordered_json search;

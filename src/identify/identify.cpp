@@ -250,6 +250,7 @@ struct Context {
 struct DriftStats {
   MatrixXd Gaug;  // (K+1)², lower triangle filled during accumulation
   MatrixXd ito;   // P × Kv: Σ ψ_m ∂_vφ_j
+  VectorXd resp;  // Kv: Σ of the friction's response term (Dictionary::sign_ito_response)
   MatrixXd hvv;   // Kv × Kv: Σ ∂_vφ ∂_vφᵀ
   MatrixXd h2;    // K × Kv: Σ φ ∂²_vφᵀ
   VectorXd dx;    // K: Σ ∂_xφ
@@ -259,11 +260,13 @@ struct DriftStats {
 
   DriftStats() = default;
   DriftStats(int K, int P, int Kv)
-      : Gaug(MatrixXd::Zero(K + 1, K + 1)), ito(MatrixXd::Zero(P, Kv)), hvv(MatrixXd::Zero(Kv, Kv)),
+      : Gaug(MatrixXd::Zero(K + 1, K + 1)), ito(MatrixXd::Zero(P, Kv)), resp(VectorXd::Zero(Kv)),
+        hvv(MatrixXd::Zero(Kv, Kv)),
         h2(MatrixXd::Zero(K, Kv)), dx(VectorXd::Zero(K)) {}
   void add(const DriftStats& o) {
     Gaug += o.Gaug;
     ito += o.ito;
+    resp += o.resp;
     hvv += o.hvv;
     h2 += o.h2;
     dx += o.dx;
@@ -283,6 +286,7 @@ void drift_pass_span(const Context& cx, bool ito, bool noise, const Span& sp, Dr
   ito = ito && Kv > 0;
   RowBlock b;
   MatrixXd Phi(kB, K + 1), Psi(kB, P), Dv(kB, std::max(Kv, 1)), D2(kB, std::max(Kv, 1)), Dx(kB, K);
+  MatrixXd Resp(kB, std::max(Kv, 1));
   std::vector<double> scratch(std::max(cx.phi.scratch_size(), cx.psi.scratch_size()));
   for (std::size_t j0 = sp.begin; j0 < sp.end; j0 += kBlockRows) {
     const int m = static_cast<int>(std::min<std::size_t>(kBlockRows, sp.end - j0));
@@ -303,6 +307,10 @@ void drift_pass_span(const Context& cx, bool ito, bool noise, const Span& sp, Dr
     if (ito) {
       cx.psi.values(b, Psi.data(), kB, scratch.data());
       add_AtB(Psi, Dv, m, P, Kv, acc.ito);
+      if (cx.phi.sign_smoothing()) {
+        cx.phi.sign_ito_response(b, Resp.data(), kB);
+        acc.resp.noalias() += Resp.topRows(m).colwise().sum().transpose();
+      }
     }
     if (noise) {
       if (Kv > 0) {
@@ -351,6 +359,8 @@ QuadraticStats drift_quadratic(const DriftStats& s, const Dictionary& phi,
   if (corr.ito && !vt.empty() && corr.q.size() > 0) {
     const VectorXd c = s.ito.transpose() * corr.q;  // Σ ∂_vφ_j a22
     for (std::size_t i = 0; i < vt.size(); ++i) q.b[vt[i]] -= 0.5 * c[static_cast<Index>(i)];
+    // the friction's response (smoothed_sign.hpp): −μ·Σ ½a22 S'Q = c·(…), on the diagonal
+    for (std::size_t i = 0; i < vt.size(); ++i) q.G(vt[i], vt[i]) += s.resp[static_cast<Index>(i)];
   }
   if (corr.var_v_noise != 0.0 && !vt.empty()) {
     MatrixXd H = MatrixXd::Zero(K, K);
@@ -1125,6 +1135,13 @@ Result identify_terms(const Dataset& data, const Options& options) {
   finish_pilot(pilot, data, phi, psi, kin, known);
   lap("pilot");
   phi.set_sign_kernel_halfwidth(std::max(0.05 * pilot.v_sd, 1e-300));
+  if (central) {  // sign(y) as the tent-averaged acceleration sees it (smoothed_sign.hpp)
+    TermList a22;
+    for (int j = 0; j < psi.size(); ++j) a22.push_back({psi.term(j), pilot.q[j]});
+    const double h = kin.h;
+    const double var_v_noise = est == Estimator::Noisy ? std::max(pilot.C2k - pilot.C3k, 0.0) * h * h / 2.0 : 0.0;
+    phi.set_sign_smoothing(h, a22, std::max(0.05 * std::abs(pilot.mean_z), 1e-300), var_v_noise);
+  }
   res.estimator_used = est;
   res.stride = k;
   res.sampling.stride = diag.k;

@@ -13,6 +13,7 @@
 #include "vehs/core/model.hpp"
 #include "vehs/identify/identify.hpp"
 #include "vehs/sim/simulate.hpp"
+#include "stat_bounds.hpp"
 
 namespace vehs_test {
 
@@ -24,6 +25,7 @@ inline vehs::Model paper_truth() {
 
 /// `records` records of `samples` samples at interval dt; substeps 1 with rk4_euler is the
 /// paper's own scheme (Eq. 30), substeps >= 20 emulates a sensor sampling a continuous process.
+/// (`seed` goes through vehs_test::seed: seed studies shift it.)
 inline vehs::Dataset simulate(const vehs::Model& m, double dt, int substeps, int records,
                               std::size_t samples, std::uint64_t seed, double sensor_noise = 0.0,
                               vehs::sim::Scheme scheme = vehs::sim::Scheme::Rk4Euler) {
@@ -32,7 +34,7 @@ inline vehs::Dataset simulate(const vehs::Model& m, double dt, int substeps, int
   o.substeps = substeps;
   o.records = records;
   o.samples = samples;
-  o.seed = seed;
+  o.seed = vehs_test::seed(seed);
   o.scheme = scheme;
   o.sensor_noise = sensor_noise;
   o.record_y = false;
@@ -44,6 +46,15 @@ inline std::set<std::string> names(const vehs::TermList& l) {
   for (const auto& tc : l) s.insert(tc.term.name());
   return s;
 }
+
+/// The |z| limit of k checks (estimate − truth)/SE of identify's estimates in one test case:
+/// z_bound(k) (stat_bounds.hpp: family-wise false failure 1e-4) times the spread of z over seeds.
+/// identify's sandwich standard errors are calibrated but estimated: sd(z) measured over seed
+/// studies of the tests (tests/identify/test_bias_study.cpp, 50–200 seeds; scripts/seed-study.sh
+/// on the whole identify suite, 50 seeds) lies in 0.82–1.15, pooled 0.98; 1.15 covers every term
+/// measured, so z_limit(8) = 1.15 × 4.37 = 5.0 (the former 3.0 failed with probability ≈ 2 % per
+/// test case of 8 terms).
+inline double z_limit(int k) { return 1.15 * z_bound(k); }
 
 /// Largest |learned − true| / stderr over the true terms (infinite when a term is missing).
 struct Deviation {
@@ -63,6 +74,7 @@ inline Deviation compare(const vehs::Model& learned, const vehs::Model& truth, b
       const double s = it == se.end() ? NAN : it->second;
       const double z = std::abs(v - tc.coef) / s;
       const double rel = std::abs(v - tc.coef) / std::abs(tc.coef);
+      tally(std::string(kind) + " " + n, (v - tc.coef) / s, (v - tc.coef) / std::abs(tc.coef));
       if (print)
         UNSCOPED_INFO(kind << " " << n << ": true " << tc.coef << ", learned " << v << " +- " << s
                            << " (z = " << (v - tc.coef) / s << ", " << 100 * rel << " %)");
@@ -73,6 +85,42 @@ inline Deviation compare(const vehs::Model& learned, const vehs::Model& truth, b
   one(truth.drift, learned.drift, learned.drift_stderr, "drift");
   one(truth.diffusion, learned.diffusion, learned.diffusion_stderr, "diffusion");
   return d;
+}
+
+/// Support of a sparse selection against the truth: every true term selected; at most
+/// `max_spurious` other terms in drift and diffusion together, each insignificant (|coef| ≤
+/// z_limit(candidates)·SE, `candidates` the number of library terms that are not true). BIC keeps
+/// a spurious term with probability ≈ P(χ²₁ > log n) each (1.4e-4 at n = 2·10⁶ rows, 3.6e-4 at
+/// 3.2·10⁵), so an exact support over the 8 + 3 spurious terms of the default libraries fails
+/// with ≈ 1.5e-3 per run, while two spurious terms at once have ≤ C(11, 2)·(1.4e-4)² = 1.1e-6; a
+/// kept spurious term sits just above the BIC line (|t| ≈ √(log n) ≈ 3.8), and |t| > z_limit is
+/// the z-check's own ≤ 1e-4. The true terms have |t| > 15 in every seed study here.
+inline void check_support(const vehs::Model& learned, const vehs::Model& truth, int candidates,
+                          int max_spurious = 1) {
+  int spurious = 0;
+  auto one = [&](const vehs::TermList& t, const vehs::TermList& l, const std::map<std::string, double>& se,
+                 const char* kind) {
+    const auto want = names(t);
+    for (const auto& n : want) {
+      INFO(kind << " term " << n);
+      CHECK(names(l).count(n) == 1);
+    }
+    int extra = 0;
+    for (const auto& tc : l) {
+      const std::string n = tc.term.name();
+      if (want.count(n)) continue;
+      ++extra;
+      const auto it = se.find(n);
+      const double z = it == se.end() ? INFINITY : std::abs(tc.coef) / it->second;
+      INFO("spurious " << kind << " term " << n << ": " << tc.coef << " (|t| = " << z << ")");
+      CHECK(z <= z_limit(std::max(candidates, 1)));
+    }
+    spurious += extra;
+    tally(std::string(kind) + " spurious terms", static_cast<double>(extra));
+  };
+  one(truth.drift, learned.drift, learned.drift_stderr, "drift");
+  one(truth.diffusion, learned.diffusion, learned.diffusion_stderr, "diffusion");
+  CHECK(spurious <= max_spurious);
 }
 
 inline double rel_error(const vehs::Model& learned, const vehs::Model& truth, bool diffusion,
@@ -99,7 +147,7 @@ inline vehs::Dataset simulate_hidden(const vehs::Model& m, std::uint64_t seed, i
   o.substeps = 10;
   o.records = records;
   o.samples = samples;
-  o.seed = seed;
+  o.seed = vehs_test::seed(seed);
   o.scheme = vehs::sim::Scheme::Taylor15;
   o.burn_in = burn_in;
   o.record_y = false;
@@ -125,16 +173,22 @@ inline double uniform(std::mt19937_64& g, double a, double b) {
   return std::uniform_real_distribution<double>(a, b)(g);
 }
 
-/// Fitted effect parameter vs truth: |Δ| ≤ 3 SE and ≤ 15 %.
-inline void check_effect_param(const vehs::Effect& fitted, const std::string& name, double truth) {
+/// Fitted effect parameter vs truth, one of k z-checks of the test case: |Δ| ≤ z_limit(k)·SE,
+/// and the parameter resolved (SE ≤ 15 % of the truth). The former "|Δ| ≤ 15 %" was a bias check
+/// that failed with probability 2Φ(−0.15|truth|/SE) — up to 1 % for the weakly identified ones;
+/// the bias itself is measured over seeds instead (mean relative error ± SE per parameter, all
+/// below 1 % except where the test's comment quotes it: test_bias_study.cpp, seed-study.sh).
+inline void check_effect_param(const vehs::Effect& fitted, const std::string& name, double truth, int k) {
   const double v = fitted.param(name);
   const double se = fitted.stderr_.at(name);
+  tally(fitted.name() + "." + name, (v - truth) / se, (v - truth) / std::abs(truth));
+  tally(fitted.name() + "." + name + " SE/|truth|", se / std::abs(truth));
   INFO(fitted.name() << "." << name << ": true " << truth << ", fitted " << v << " +- " << se
                      << " (z = " << (v - truth) / se << ")");
   CHECK(std::isfinite(se));
   CHECK(se > 0.0);
-  CHECK(std::abs(v - truth) <= 3.0 * se);
-  CHECK(std::abs(v - truth) <= 0.15 * std::abs(truth));
+  CHECK(std::abs(v - truth) <= z_limit(k) * se);
+  CHECK(se <= 0.15 * std::abs(truth));
 }
 
 }  // namespace vehs_test
