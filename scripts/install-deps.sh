@@ -8,6 +8,8 @@ packages=(
   libeigen3-dev libsuitesparse-dev nlohmann-json3-dev catch2
   libcli11-dev libfast-float-dev libbenchmark-dev
   gnuplot-nox chromium
+  # scripts/simd_compare.py (the SIMD-width check of .ci/run; standard library only)
+  python3
   # an optimised BLAS for UMFPACK's dense kernels (Debian's BLAS alternative: libsuitesparse
   # links libblas.so.3, which this package provides with priority over the reference BLAS;
   # the serial variant, because vehs parallelises over sweep points itself)

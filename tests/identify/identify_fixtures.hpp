@@ -174,11 +174,13 @@ inline double uniform(std::mt19937_64& g, double a, double b) {
 }
 
 /// Fitted effect parameter vs truth, one of k z-checks of the test case: |Δ| ≤ z_limit(k)·SE,
-/// and the parameter resolved (SE ≤ 15 % of the truth). The former "|Δ| ≤ 15 %" was a bias check
-/// that failed with probability 2Φ(−0.15|truth|/SE) — up to 1 % for the weakly identified ones;
-/// the bias itself is measured over seeds instead (mean relative error ± SE per parameter, all
-/// below 1 % except where the test's comment quotes it: test_bias_study.cpp, seed-study.sh).
-inline void check_effect_param(const vehs::Effect& fitted, const std::string& name, double truth, int k) {
+/// and the parameter resolved (SE ≤ `resolution` of the truth, default 15 %). The former
+/// "|Δ| ≤ 15 %" was a bias check that failed with probability 2Φ(−0.15|truth|/SE) — 1 % at an SE
+/// of 6 %, and most of the time for the draws whose SE exceeds 15 % (over seed shifts: colored_noise
+/// tau up to 35 %, electromechanical coupling up to 15 %); the bias itself is measured over seeds
+/// instead (mean relative error ± SE per parameter: test_bias_study.cpp, seed-study.sh).
+inline void check_effect_param(const vehs::Effect& fitted, const std::string& name, double truth, int k,
+                               double resolution = 0.15) {
   const double v = fitted.param(name);
   const double se = fitted.stderr_.at(name);
   tally(fitted.name() + "." + name, (v - truth) / se, (v - truth) / std::abs(truth));
@@ -188,7 +190,7 @@ inline void check_effect_param(const vehs::Effect& fitted, const std::string& na
   CHECK(std::isfinite(se));
   CHECK(se > 0.0);
   CHECK(std::abs(v - truth) <= z_limit(k) * se);
-  CHECK(se <= 0.15 * std::abs(truth));
+  CHECK(se <= resolution * std::abs(truth));
 }
 
 }  // namespace vehs_test

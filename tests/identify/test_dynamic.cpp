@@ -148,8 +148,9 @@ TEST_CASE("dynamic effects: electromechanical coupling (time constant and coupli
   REQUIRE(r.model.effects.size() == 1);
   const Effect& f = r.model.effects[0];
   // 7 z-checks: lambda, coupling and the 5 baseline terms
-  check_effect_param(f, "lambda", e.param("lambda"), 7);
-  check_effect_param(f, "coupling", e.param("coupling"), 7);
+  // resolution: SE/truth over 9 seed shifts 0.03–0.11 (lambda), 0.07–0.15 (coupling): 30 %
+  check_effect_param(f, "lambda", e.param("lambda"), 7, 0.3);
+  check_effect_param(f, "coupling", e.param("coupling"), 7, 0.3);
   truth.effects.clear();
   check_baseline(r.model, truth, 7);
 }
@@ -210,8 +211,11 @@ TEST_CASE("dynamic effects: given params are held fixed; unsupported and bad req
     const double amp = r.model.effects[0].param("amplitude"), se = r.model.effects[0].stderr_.at("amplitude");
     tally("held omega: amplitude", (amp - 0.1) / se, amp / 0.1 - 1);
     tally("held omega: amplitude SE", se);
-    // STUDY: amplitude within 0.02
-    CHECK(std::abs(amp - 0.1) < 0.02);
+    // SE ≈ 0.0087 (9 seed shifts: 0.0081–0.0096) but the spread of z over them is 1.5: with omega
+    // held fixed the reported SE looks too small by that factor (noted for identify's owners). The
+    // former |Δ| < 0.02 is 1.5 sd of the measured spread (13 % failure per run); the check below
+    // scales z_bound(1) by 1.6 (the spread's upper range) — 1e-4 if the spread is ≤ 1.6.
+    CHECK(std::abs(amp - 0.1) <= 1.6 * z_bound(1) * se);
   }
 
   Effect bad;

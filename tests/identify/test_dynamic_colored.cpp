@@ -55,7 +55,8 @@ TEST_CASE("an OU excitation is not mistaken for sensor noise: identify on its da
   INFO("rho_k " << r.sampling.rho_k << " rho_2k " << r.sampling.rho_2k << " rho_3k " << r.sampling.rho_3k);
   tally("6 rho_2k", 6.0 * r.sampling.rho_2k);
   tally("noise share", r.sampling.noise_share);
-  // STUDY: OU rho_2k and noise share
+  // over 9 seed shifts: 6ρ_2k = 0.155 ± sd 0.011 (0.1 is 4.8 sd below: 1e-6) and the noise share
+  // 0.009 ± 0.007 (0.05 is 6 sd above: 1e-9); the estimator choice follows from the share
   CHECK(6.0 * r.sampling.rho_2k > 0.1);  // the OU's memory: lag 2k alone would read > 10 % noise ...
   CHECK(r.sampling.noise_share < 0.05);  // ... and is not read as sensor noise
   CHECK(r.estimator_used == identify::Estimator::Uli);
@@ -74,8 +75,11 @@ TEST_CASE("dynamic effects: colored_noise (OU time constant and intensity) on tw
   const identify::Result r = identify::identify(d, baseline_options({EffectId::ColoredNoise}));
   INFO(pot << ": " << model_to_json(r.model).dump());
   REQUIRE(r.model.effects.size() == 1);
-  check_effect_param(r.model.effects[0], "tau", e.param("tau"), 7);
-  check_effect_param(r.model.effects[0], "intensity", e.param("intensity"), 7);
+  // resolution: over 18 draws of the test's ranges (9 seed shifts × 2 potentials) SE/truth was
+  // 0.05–0.35 for tau (mean 0.12) and 0.05–0.26 for intensity (mean 0.10): these data identify
+  // both to within a factor, not always to 15 % (the former 15 % check failed in 3 of 18 draws)
+  check_effect_param(r.model.effects[0], "tau", e.param("tau"), 7, 0.6);
+  check_effect_param(r.model.effects[0], "intensity", e.param("intensity"), 7, 0.6);
   Model truth_terms = truth;
   truth_terms.effects.clear();
   const Deviation dev = compare(r.model, truth_terms);

@@ -95,9 +95,12 @@ TEST_CASE("the paper's estimator shows its documented biases (why the default ex
     tally("paper beta", beta_paper);
     tally("default beta z", (beta_uli - 0.1) / u.model.drift_stderr.at("y"));
     tally("paper 2D", p.model.diffusion_coef("1"));
-    // STUDY: paper beta band
-    CHECK(beta_paper < 0.8 * 0.1);
-    CHECK(beta_paper > 0.4 * 0.1);
+    // The paper's β over 9 seed shifts: 0.0684 ± sd 0.0041 (a third low, as documented). The band
+    // [0.045, 0.09] is ≥ 5.3 sd from that mean (≥ 4.1 sd if the sd is 30 % larger than measured:
+    // 4e-5); the former upper end 0.08 was 2.8 sd away (2.5e-3 per run). The paper's 2D:
+    // 0.01414 ± 0.00009, 20 sd below 0.016.
+    CHECK(beta_paper < 0.9 * 0.1);
+    CHECK(beta_paper > 0.45 * 0.1);
     CHECK(std::abs(beta_uli - 0.1) <= z_limit(1) * u.model.drift_stderr.at("y"));
     CHECK(p.model.diffusion_coef("1") < 0.8 * 0.02);
   }
@@ -107,7 +110,8 @@ TEST_CASE("the paper's estimator shows its documented biases (why the default ex
     const double q2 = p.model.diffusion_coef("x^2");
     INFO(model_to_json(p.model)["diffusion"].dump());
     tally("paper 2Q", q2);
-    // the raw Kramers–Moyal 2Q ≈ 0.005 (half the truth) with SE ≈ 0.0003: 0.0075 is 8 SE away
+    // the raw Kramers–Moyal 2Q over 9 seed shifts: 0.0046 ± sd 0.0007 (half the truth): 0.0075 is
+    // 4.3 sd away (1e-5)
     CHECK((q2 < 0.75 * 0.01 || names(p.model.diffusion) != kTrueDiffusion));
   }
 }
@@ -120,12 +124,14 @@ TEST_CASE("white sensor noise (sd 1e-3 at dt = 0.005): the noisy estimator keeps
   tally("sensor noise sd", r.sampling.sensor_noise_sd / 1e-3 - 1.0);
   CHECK(r.estimator_used == identify::Estimator::Noisy);
   CHECK(r.stride > 1);
-  // the noise sd from the lag-2k autocovariance: relative sd ≈ 1 % (seed study), 10 % ≫ 5 sd
+  // the noise sd from the lag-2k autocovariance: relative sd 0.6 % over 9 seed shifts, 10 % is 17 sd
   CHECK(r.sampling.sensor_noise_sd == Approx(1e-3).epsilon(0.1));
   compare(r.model, truth);
-  // Bias checks of the noisy estimator (documented limits: O(h) bias growing with the stride):
-  // β's SE ≈ 2.5 %, 2D's ≈ 0.5 %; over 50 seeds (seed study) the mean errors are quoted in
-  // data/identify/README.md and 10 % stays ≥ 4.4 SE beyond them.
+  // KNOWN WEAKNESS (issue 11 seed study, not resolved here): over 9 seed shifts this test failed
+  // in 2 — once the stride stayed 1 and the fit broke down (x^3 64 SE off, a diffusion term
+  // dropped), once β was 12 % off. The noisy estimator's robustness at this noise level
+  // (s = 1e-3 at Δt = 0.005, 2·10⁶ samples) needs its own work; its false-failure probability
+  // per run is of order 0.2, far above 1e-4. The checks are left as they were.
   CHECK(rel_error(r.model, truth, false, "y") <= 0.10);
   CHECK(rel_error(r.model, truth, true, "1") <= 0.10);
   Model drift_only = truth;  // the drift's support (the diffusion's is not this test's subject)
@@ -287,8 +293,17 @@ TEST_CASE("the O(h^2) central-difference correction removes the stride bias of U
   const auto with = identify::identify(d, o);
   o.discretization_correction = false;
   const auto without = identify::identify(d, o);
-  CHECK(names(with.model.drift) == kTrueDrift);
-  CHECK(compare(with.model, truth).max_z <= 3.0);
+  // The drift: support and 6 z-checks. The diffusion is not this test's subject: at h = 0.07 its
+  // O(h) bias (identify.hpp) is measured over 8 seed shifts at x^2 −2.7 % ± 0.8 % (−1.6 SE) and
+  // 1 +0.7 % ± 0.3 %, so a z-check of it would fail often (the former max_z ≤ 3 over all 8 terms
+  // failed in 1 of 8 seed shifts).
+  Model drift_only = truth;
+  drift_only.diffusion = with.model.diffusion;
+  check_support(with.model, drift_only, 8);
+  CHECK(compare(with.model, drift_only).max_z <= z_limit(6));
+  tally("x^9 error without / with", rel_error(without.model, truth, false, "x^9") / rel_error(with.model, truth, false, "x^9"));
+  tally("x^5 error with", rel_error(with.model, truth, false, "x^5"));
+  // STUDY: O(h2) x9 ratio and x5
   CHECK(rel_error(without.model, truth, false, "x^9") > 2 * rel_error(with.model, truth, false, "x^9"));
   CHECK(rel_error(with.model, truth, false, "x^5") < 0.02);
 }
