@@ -106,7 +106,7 @@ TEST_CASE("with dynamic effects, a wrong forcing phase (time origin ignored) and
     const Result r = vehs::diagnose::diagnose(wrong, d, options(1));
     INFO("wrong phase: " << describe(r));
     tally_result("wrong phase", r);
-    // STUDY: wrong phase margin
+    // power: log10(min p / threshold) −8.7 ± sd 3.3 over 4 seed shifts (P(adequate) ≈ 0.4 %)
     CHECK(r.verdict == "inadequate");
   }
   {
@@ -117,6 +117,9 @@ TEST_CASE("with dynamic effects, a wrong forcing phase (time origin ignored) and
     const Result r = vehs::diagnose::diagnose(without, d, options(2));
     INFO("without the electrical state: " << describe(r));
     tally_result("without electrical state", r);
+    // KNOWN WEAKNESS: log10(min p / threshold) −1.2, −0.04, −2.0, −0.14 over 4 seed shifts —
+    // inadequate each time, but twice by a hair: the missing state (coupling 0.08) is at the edge
+    // of what 32 × 6000 samples resolve; false failure per seed of order 10–30 %.
     CHECK(r.verdict == "inadequate");
   }
 }

@@ -41,8 +41,11 @@ std::string describe(const diagnose::SuspectReport& r) {
   return s;
 }
 
-/// Power checks (the hidden effect ranked first and held-out significant): the margins over seed
-/// shifts (its z and evidence lead) are quoted in bench/results/.
+/// Power checks (the hidden effect ranked first and held-out significant). Over 3–4 seed shifts
+/// (scripts/seed-study.sh): first in every shift; held-out z of harmonic forcing 5.7 ± sd 2.1,
+/// electromechanical 4.6 ± 0.8, coloured 6.3 ± 1.8, impact stops 2.0, 4.7, 6.3, 10.5 — the stops
+/// fell below the threshold 3 once in 4 (KNOWN WEAKNESS: with z ≈ 5 ± 2 the significance check
+/// fails for a few % to 20 % of seeds, far above 1e-4).
 void check_first(const diagnose::SuspectReport& r, const std::string& effect) {
   INFO(describe(r));
   if (!r.ranked.empty()) {
@@ -70,7 +73,7 @@ TEST_CASE("suspects: hidden harmonic forcing is ranked first and significant",
   const auto r = suspects_of(baseline_fit(d), d);
   check_first(r, "harmonic_forcing");
   tally("omega", r.ranked[0].params.value("omega", 0.0) / e.param("omega") - 1.0);
-  // STUDY: omega within 1 %
+  // omega over 4 seed shifts: relative error sd 0.09 % (1 % is 11 sd)
   CHECK(r.ranked[0].params.value("omega", 0.0) == Approx(e.param("omega")).epsilon(0.01));
 }
 
@@ -142,6 +145,7 @@ TEST_CASE("suspects: a hidden OU (coloured) excitation is ranked first and signi
   check_first(r, "colored_noise");
   INFO(describe(r));
   tally(pot + " tau", r.ranked[0].params.value("tau", 0.0) / e.param("tau") - 1.0);
-  // STUDY: tau within 30 %
+  // tau over 3 + 3 seed shifts: relative error +2 % ± sd 15 % (bistable), +11 % ± 15 %
+  // (monostable): 30 % is 1.3–2 sd — KNOWN WEAKNESS, false failure of order 5 % per seed
   CHECK(r.ranked[0].params.value("tau", 0.0) == Approx(e.param("tau")).epsilon(0.3));
 }

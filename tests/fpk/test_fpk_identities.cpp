@@ -100,9 +100,11 @@ TEST_CASE("fpk of a model file in identify-vehs format agrees with Monte Carlo w
   const double tb = vehs_test::t_bound(18, 47.0);
   CHECK(std::abs(mx.value - r.moments.exx) <= tb * mx.stderr_);
   CHECK(std::abs(my.value - r.moments.eyy) <= tb * my.stderr_);
-  // the comparison has teeth: SE(E[Y²]) ≈ 0.8 % (STUDY), estimated from 48 records
+  // the comparison has teeth: SE(E[Y²]) ≈ 0.8 % of E[Y²], estimated from 48 records, so
+  // (SE_hat/SE)² ~ χ²₄₇/47: the former bound 1 % is 1.25 SE and failed with P(χ²₄₇ > 73) ≈ 0.8 %;
+  // 2 % (P(χ²₄₇ > 294) < 1e-30) still makes a 10 % FPK error a ≥ 5-SE miss
   vehs_test::tally("SE(E[Y^2]) relative", my.stderr_ / my.value);
-  CHECK(my.stderr_ < 0.01 * my.value);
+  CHECK(my.stderr_ < 0.02 * my.value);
   // p(x): probability per bin from the FPK marginal vs the records' spread.
   for (int b = 0; b < bins; ++b) {
     const double a = lo + (hi - lo) * b / bins, c = lo + (hi - lo) * (b + 1) / bins;

@@ -303,7 +303,9 @@ TEST_CASE("the O(h^2) central-difference correction removes the stride bias of U
   CHECK(compare(with.model, drift_only).max_z <= z_limit(6));
   tally("x^9 error without / with", rel_error(without.model, truth, false, "x^9") / rel_error(with.model, truth, false, "x^9"));
   tally("x^5 error with", rel_error(with.model, truth, false, "x^5"));
-  // STUDY: O(h2) x9 ratio and x5
+  // the uncorrected stiffness is ~5 % off (4–7 SE) at this stride and the corrected one within
+  // 1–2 SE: measured on this seed only — the false-failure probability of these two checks is
+  // not established (tallied for scripts/seed-study.sh)
   CHECK(rel_error(without.model, truth, false, "x^9") > 2 * rel_error(with.model, truth, false, "x^9"));
   CHECK(rel_error(with.model, truth, false, "x^5") < 0.02);
 }
