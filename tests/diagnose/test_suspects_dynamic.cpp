@@ -81,18 +81,7 @@ TEST_CASE("suspects: hidden impact stops are ranked first and significant",
           "[diagnose][suspects][dynamic]") {
   std::mt19937_64 g(seed(72));
   Model truth = hidden_effect_potential("monostable");
-  // gaps at a random upper quantile of |x| of the same system without stops
-  const Dataset free_run = simulate_hidden(truth, 5, 2, 20000);
-  std::vector<double> pos, neg;
-  for (double v : free_run.x) (v > 0 ? pos : neg).push_back(std::abs(v));
-  std::sort(pos.begin(), pos.end());
-  std::sort(neg.begin(), neg.end());
-  const double q = uniform(g, 0.90, 0.96);
-  Effect e;
-  e.id = EffectId::ImpactStop;
-  e.params = {{"k_stop", uniform(g, 20.0, 80.0)},
-              {"gap", pos[static_cast<std::size_t>(q * static_cast<double>(pos.size()))]},
-              {"gap_neg", neg[static_cast<std::size_t>(q * static_cast<double>(neg.size()))]}};
+  const Effect e = draw_impact_stop(truth, g);  // gaps at a random upper quantile of |x| without stops
   truth.effects = {e};
   const Dataset d = simulate_hidden(truth, 2000 + g() % 1000, 8, 40000);
   const auto r = suspects_of(baseline_fit(d), d);

@@ -4,6 +4,7 @@
 // with the truth in units of the reported standard errors.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -54,7 +55,7 @@ inline std::set<std::string> names(const vehs::TermList& l) {
 /// on the whole identify suite, 50 seeds) lies in 0.82–1.15, pooled 0.98; 1.15 covers every term
 /// measured, so z_limit(8) = 1.15 × 4.37 = 5.0 (the former 3.0 failed with probability ≈ 2 % per
 /// test case of 8 terms).
-inline double z_limit(int k) { return 1.15 * z_bound(k); }
+inline double z_limit(int k, double p = kFalseFailure) { return 1.15 * z_bound(k, p); }
 
 /// Largest |learned − true| / stderr over the true terms (infinite when a term is missing).
 struct Deviation {
@@ -152,6 +153,23 @@ inline vehs::Dataset simulate_hidden(const vehs::Model& m, std::uint64_t seed, i
   o.burn_in = burn_in;
   o.record_y = false;
   return vehs::sim::simulate(m, o);
+}
+
+/// Impact stops drawn as the tests draw them: both gaps at a random quantile q ∈ [0.90, 0.96] of
+/// |x| of the same system without stops (a free run of 2 × 20000 samples), k_stop ∈ [20, 80].
+inline vehs::Effect draw_impact_stop(const vehs::Model& base, std::mt19937_64& g) {
+  const vehs::Dataset free_run = simulate_hidden(base, 5, 2, 20000);
+  std::vector<double> pos, neg;
+  for (double v : free_run.x) (v > 0 ? pos : neg).push_back(std::abs(v));
+  std::sort(pos.begin(), pos.end());
+  std::sort(neg.begin(), neg.end());
+  const double q = std::uniform_real_distribution<double>(0.90, 0.96)(g);
+  vehs::Effect e;
+  e.id = vehs::EffectId::ImpactStop;
+  e.params = {{"k_stop", std::uniform_real_distribution<double>(20.0, 80.0)(g)},
+              {"gap", pos[static_cast<std::size_t>(q * static_cast<double>(pos.size()))]},
+              {"gap_neg", neg[static_cast<std::size_t>(q * static_cast<double>(neg.size()))]}};
+  return e;
 }
 
 /// identify on the hidden-effect potentials' own terms (x, x³, y; 1, x²), sparsity off, with

@@ -124,17 +124,7 @@ void impact_study(const std::string& pot, bool stops, int substeps) {
   for (int s = 1; s <= n; ++s) {
     std::mt19937_64 g(static_cast<std::uint64_t>(1000 * s + (pot == "bistable" ? 1 : 2)));
     Model truth = hidden_effect_potential(pot);
-    const Dataset free_run = simulate_hidden(truth, 5, 2, 20000);
-    std::vector<double> pos, neg;
-    for (double v : free_run.x) (v > 0 ? pos : neg).push_back(std::abs(v));
-    std::sort(pos.begin(), pos.end());
-    std::sort(neg.begin(), neg.end());
-    const double q = uniform(g, 0.90, 0.96);
-    Effect e;
-    e.id = EffectId::ImpactStop;
-    e.params = {{"k_stop", uniform(g, 20.0, 80.0)},
-                {"gap", pos[static_cast<std::size_t>(q * static_cast<double>(pos.size()))]},
-                {"gap_neg", neg[static_cast<std::size_t>(q * static_cast<double>(neg.size()))]}};
+    const Effect e = draw_impact_stop(truth, g);
     if (stops) truth.effects = {e};
     sim::SimulationOptions so;
     so.dt = 0.01;

@@ -86,19 +86,7 @@ TEST_CASE("dynamic effects: impact stops (stiffness and both gaps) on two potent
   const std::string pot = GENERATE(std::string("bistable"), std::string("monostable"));
   std::mt19937_64 g(seed(pot == "bistable" ? 21 : 22));
   Model truth = hidden_effect_potential(pot);
-  // gaps at a random quantile of |x| of the same system without stops
-  const Dataset free_run = simulate_hidden(truth, 5, 2, 20000);
-  std::vector<double> ax(free_run.x.begin(), free_run.x.end());
-  std::vector<double> pos, neg;
-  for (double v : ax) (v > 0 ? pos : neg).push_back(std::abs(v));
-  std::sort(pos.begin(), pos.end());
-  std::sort(neg.begin(), neg.end());
-  const double q = uniform(g, 0.90, 0.96);
-  Effect e;
-  e.id = EffectId::ImpactStop;
-  e.params = {{"k_stop", uniform(g, 20.0, 80.0)},
-              {"gap", pos[static_cast<std::size_t>(q * pos.size())]},
-              {"gap_neg", neg[static_cast<std::size_t>(q * neg.size())]}};
+  const Effect e = draw_impact_stop(truth, g);  // gaps at a random quantile of |x| without stops
   truth.effects = {e};
   const Dataset d = simulate_hidden(truth, 200 + g() % 1000);
   identify::Options o = options_for(truth);
