@@ -7,6 +7,8 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev nlohmann-json3-dev catch2
   libcli11-dev libfast-float-dev libbenchmark-dev
+  # Ceres Solver: maximum likelihood with automatic derivatives (likelihood area)
+  libceres-dev
   gnuplot-nox chromium
   # scripts/simd_compare.py (the SIMD-width check of .ci/run; standard library only)
   python3

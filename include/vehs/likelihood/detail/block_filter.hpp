@@ -1,0 +1,104 @@
+#pragma once
+// The continuous–discrete Gaussian filter over one block of samples (a record, or a piece of a
+// long record), generic over the scalar type T and the state dimension D.
+//
+// Start: the block is conditioned on its first sample — x ~ N(x_0, measurement variance) (a
+// diffuse prior updated with x_0), y ~ N(0, y_prior_var), v ~ N(0, v_prior_var) (data-based
+// priors, the same for every parameter value), η from its stationary law N(0, intensity/2τ).
+// Then for k = 1 … n−1: time update over [t_{k−1}, t_k] by RK4 substeps of the moment equations
+// (the drive held or interpolated over [t_{k−1}, t_k], input_path.hpp), measurement update with
+// x_k = x(t_k) + ε_k: innovation e_k = x_k − m_x, S_k = P_xx + σ_ε², log-likelihood
+// −½(log 2πS_k + e_k²/S_k), Kalman gain P_{·x}/S_k.
+#include <cmath>
+#include <algorithm>
+#include <cstddef>
+
+#include "vehs/likelihood/detail/moment_system.hpp"
+#include "vehs/likelihood/ode.hpp"
+
+namespace vehs::likelihood::detail {
+
+struct BlockData {
+  const double* x = nullptr;
+  std::size_t n = 0;
+  /// The whole record's input (null without a drive term) and this block's first index in it
+  /// (interpolation near the block's ends uses the neighbouring samples).
+  const double* record_u = nullptr;
+  std::size_t record_n = 0, first = 0;
+  double t0 = 0.0, dt = 0.0;  ///< time of the first sample, sampling interval
+  double y_prior_var = 1.0;   ///< prior variance of y at the first sample
+  double v_prior_var = 0.0;   ///< prior variance of v at the first sample
+};
+
+struct FilterSettings {
+  int substeps = 4;
+  InputInterpolation input = InputInterpolation::ZeroOrderHold;
+};
+
+/// Where and why the filter stopped (no number is returned then).
+struct FilterFailure {
+  bool failed = false;
+  std::size_t sample = 0;  ///< index within the block
+  const char* what = "";
+};
+
+/// A sink that ignores every sample.
+struct NoSink {
+  template <class T, class S>
+  void operator()(std::size_t, const T&, const T&, const T&, const S&) {}
+};
+
+inline constexpr double kLog2Pi = 1.8378770664093454836;
+
+/// Runs the filter over the block and returns Σ_k ℓ_k (k ≥ 1). `sink(k, e_k, S_k, ℓ_k,
+/// filtered state)` is called for every scored sample after its update. On failure returns 0 with `fail` set.
+template <class T, int D, class Sink>
+T filter_block(const Structure& st, const Coefficients<T>& c, const BlockData& b,
+               const FilterSettings& fs, Sink&& sink, FilterFailure& fail) {
+  using std::log;
+  using Pk = Packing<D>;
+  using State = PackedState<T, D>;
+  MomentSystem<T, D> sys(st, c);
+  State s = State::Zero();
+  s[0] = T(b.x[0]);
+  s[Pk::p(0, 0)] = c.measurement_var;
+  s[Pk::p(1, 1)] = T(b.y_prior_var);
+  if constexpr (D == 4) {
+    if (st.electro) s[Pk::p(2, 2)] = T(b.v_prior_var);
+    if (st.colored) s[Pk::p(3, 3)] = c.intensity / (2.0 * c.tau);
+  }
+  T total{};
+  for (std::size_t k = 1; k < b.n; ++k) {
+    const double t_prev = b.t0 + double(k - 1) * b.dt;
+    sys.set_drive(t_prev, b.dt,
+                  b.record_u ? input_cubic(b.record_u, b.record_n, b.first + k - 1, fs.input)
+                             : InputCubic{});
+    if (!rk4_propagate(sys, t_prev, b.dt, fs.substeps, s)) {
+      fail = {true, k, "the moment equations left the model's domain (a22 < 0 or a variance <= 0)"};
+      return T{};
+    }
+    const T e = b.x[k] - s[0];
+    const T S = s[Pk::p(0, 0)] + c.measurement_var;
+    const double sv = value_of(S), ev = value_of(e);
+    if (!(sv > 0.0) || !std::isfinite(sv) || !std::isfinite(ev)) {
+      fail = {true, k, "the predicted variance of x is not finite and positive"};
+      return T{};
+    }
+    const T ell = -0.5 * (kLog2Pi + log(S) + e * e / S);
+    total += ell;
+    // update: K = P_{·0}/S, m += K e, P −= P_{·0} P_{0·}/S
+    T p0[D];
+    for (int i = 0; i < D; ++i) p0[i] = s[Pk::p(i, 0)];
+    const T inv_s = 1.0 / S;
+    const T r_over_s = c.measurement_var * inv_s;  // P_0j − P_00 P_0j/S = P_0j·R/S, exactly ≥ 0
+    for (int i = 0; i < D; ++i) {
+      s[i] += p0[i] * inv_s * e;
+      s[Pk::p(0, i)] = p0[i] * r_over_s;
+      for (int j = std::max(i, 1); j < D; ++j) s[Pk::p(i, j)] -= p0[i] * p0[j] * inv_s;
+    }
+    sink(k, e, S, ell, s);
+  }
+  return total;
+}
+
+}  // namespace vehs::likelihood::detail

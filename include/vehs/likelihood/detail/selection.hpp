@@ -1,0 +1,25 @@
+#pragma once
+// Internals of refine(): one fit of a fixed support, standard errors into the model, and the
+// backward elimination by a likelihood criterion.
+#include "vehs/likelihood/detail/parameterization.hpp"
+#include "vehs/likelihood/refine.hpp"
+
+namespace vehs::likelihood::detail {
+
+/// Maximum likelihood of the support of `start`; the requested covariance when
+/// `final_covariance`, else the inverse Fisher information (cheap, for ranking terms).
+Result fit_support(const ObservedModel& start, const Dataset& data, const RefineOptions& o,
+                   const FitChoice& choice, bool final_covariance);
+
+/// Copies the standard errors of `res.stderrs` into res.model (drift_stderr, diffusion_stderr,
+/// effects' stderr_).
+void attach_stderrs(Result& res);
+
+/// Backward elimination from the support of `start` (refine.hpp).
+Result select_support(const ObservedModel& start, const Dataset& data, const RefineOptions& o,
+                      FitChoice choice);
+
+/// Upper quantile of χ²₁: q with P(χ²₁ > q) = p.
+double chi2_1_upper_quantile(double p);
+
+}  // namespace vehs::likelihood::detail

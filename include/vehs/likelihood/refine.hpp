@@ -1,0 +1,136 @@
+#pragma once
+// Maximum likelihood for an observed model (filter.hpp), started from a given model (in the
+// product: identify's moment fit), with standard errors and optional selection of the support
+// by a likelihood criterion. Ceres Solver does the optimisation (GradientProblemSolver, BFGS
+// with a Wolfe line search) on automatic derivatives through the filter (ceres::Jet); nothing
+// here is a hand-written optimiser.
+//
+// Parameters: the start model's non-zero drift and diffusion coefficients, its dynamic effects'
+// parameters, the measurement noise and (optionally) one harmonic_forcing phase per record —
+// see parameters.hpp for names and the log scale of positive quantities.
+//
+// The optimiser is local: a start must lie in the basin of the optimum. Dynamic-effect
+// parameters are the delicate ones — the likelihood in harmonic_forcing.omega has side lobes
+// every 2π/T_record, so omega must start within about π/T_record (identify's spectral scan
+// provides that); gaps, λ and τ tolerate starts 20 % off (tests/likelihood/test_effects.cpp).
+// A start whose diffusion turns negative inside the data (a moment fit at coarse sampling) is
+// repaired: the non-constant a22 terms restart at tiny positive values.
+//
+// Conditioning. The optimiser works in whitened coordinates θ = θ₀ + W z with W Wᵀ the inverse
+// Fisher information of the innovations at θ₀ (one derivative pass), so that a unit step is one
+// standard error in every direction and BFGS's first step is a Fisher-scoring step; after each
+// Ceres run the whitening is recomputed at the new point until the Newton step is below 0.01
+// SE. Data larger than `warm_start_samples` are first fitted on the first eighth of every
+// record (recursively), then on all of them (a few iterations from there).
+//
+// Standard errors (Options::covariance):
+//  * observed  — inverse of the observed information, the Hessian of −log L by central
+//                differences of the automatic gradient (2 gradient passes per parameter);
+//  * fisher    — inverse Fisher information of the innovations, Σ ∂e∂eᵀ/S + ½∂S∂Sᵀ/S²
+//                (no extra pass; equals observed in expectation under the model);
+//  * sandwich  — H⁻¹ B H⁻¹ with B the covariance of score sums over contiguous batches (robust
+//                to a misspecified noise model; needs many batches).
+// On the natural scale by the delta method.
+//
+// Selection (Options::select): backward elimination from the start support. At each step the
+// free term (or the measurement noise) with the smallest |estimate/SE| is removed and the model
+// refitted; the removal is kept when BIC = −2 log L + k log n does not increase (or, with the
+// likelihood-ratio criterion, when 2ΔlogL is below the χ²₁ quantile at 1 − α; the measurement
+// noise sits on the boundary, so there the ½χ²₀ + ½χ²₁ mixture is used). A term whose removal
+// leaves a model the filter cannot start (an unstable or anti-damped drift at the data) is kept
+// and the next candidate tried. Terms in keep_drift /
+// keep_diffusion, diffusion[1] and effect parameters are never removed.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vehs/core/enum_names.hpp"
+#include "vehs/io/measurements.hpp"
+#include "vehs/likelihood/filter.hpp"
+#include "vehs/likelihood/observed_model.hpp"
+#include "vehs/likelihood/parameters.hpp"
+
+namespace vehs::likelihood {
+
+enum class Covariance { Observed, Fisher, Sandwich };
+inline constexpr EnumNames<Covariance, 3> kCovarianceNames{
+    {{Covariance::Observed, "observed"}, {Covariance::Fisher, "fisher"}, {Covariance::Sandwich, "sandwich"}}};
+
+enum class SelectionCriterion { Bic, LikelihoodRatio };
+inline constexpr EnumNames<SelectionCriterion, 2> kSelectionCriterionNames{
+    {{SelectionCriterion::Bic, "bic"}, {SelectionCriterion::LikelihoodRatio, "lr"}}};
+
+struct RefineOptions {
+  FilterOptions filter;
+  /// Estimate the measurement noise (log scale). Its start is the start model's measurement_sd,
+  /// or `measurement_sd_start` when that is 0, or 1 % of std(x) when both are 0.
+  bool estimate_measurement_noise = true;
+  double measurement_sd_start = 0.0;
+  bool per_record_phase = false;      ///< one harmonic_forcing phase per record
+  std::vector<std::string> fixed;     ///< parameter names held at their start values
+  Covariance covariance = Covariance::Observed;
+  std::size_t sandwich_batch = 0;     ///< samples per batch (0: a record each, ≥ 50 batches)
+
+  bool select = false;
+  SelectionCriterion criterion = SelectionCriterion::Bic;
+  double lr_alpha = 1e-3;
+  std::vector<Term> keep_drift, keep_diffusion;
+
+  int max_iterations = 20;            ///< Ceres iterations per whitening round
+  int max_rounds = 20;                ///< whitening rounds
+  std::size_t warm_start_samples = 30000;  ///< larger data: first fitted on 1/8 of every record
+  double step_tolerance = 0.01;       ///< convergence: Newton step below this many SE
+  bool progress = false;              ///< one line per fit on stderr
+
+  bool IsValid(std::string* error) const;
+};
+
+struct SelectionStep {
+  std::string removed;        ///< parameter name
+  double z = 0.0;             ///< |estimate/SE| before removal
+  double log_likelihood = 0.0;  ///< of the model without it
+  double delta = 0.0;         ///< 2 (log L_before − log L_after)
+  double threshold = 0.0;     ///< log n (BIC) or the χ² quantile (LR)
+  bool accepted = false;
+};
+
+struct Summary {
+  bool converged = false;
+  std::string message;          ///< Ceres' termination message of the last round
+  int rounds = 0, iterations = 0;
+  int gradient_evaluations = 0, value_evaluations = 0;
+  double initial_log_likelihood = 0.0, final_log_likelihood = 0.0;
+  double newton_step_se = 0.0;  ///< size of the remaining Newton step in SE units
+  double seconds = 0.0;
+  int substeps = 0, threads = 0;
+  std::size_t observations = 0, blocks = 0, parameters = 0;
+  std::string covariance;       ///< method used (a failed observed falls back to fisher)
+  std::vector<SelectionStep> selection;
+
+  std::string BriefReport() const;
+  std::string FullReport() const;
+};
+
+struct Result {
+  /// The fitted model; standard errors in model.drift_stderr / diffusion_stderr /
+  /// effects[i].stderr_; measurement_sd and record phases in the ObservedModel.
+  ObservedModel model;
+  std::vector<ParameterInfo> parameters;  ///< free parameters, in the order below
+  std::vector<double> values, stderrs;    ///< natural scale
+  Eigen::MatrixXd covariance;             ///< natural scale
+  double log_likelihood = 0.0;
+  double bic = 0.0;
+  Summary summary;
+
+  /// Index of a parameter by name, or −1.
+  int find(const std::string& name) const;
+};
+
+/// Maximum likelihood from `start` (and selection when requested). Throws vehs::Error with one
+/// line for invalid options, a model or data the filter cannot take, or a start model whose
+/// filter diverges.
+Result refine(const ObservedModel& start, const Dataset& data, const RefineOptions& options = {});
+
+}  // namespace vehs::likelihood

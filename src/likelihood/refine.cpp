@@ -1,0 +1,423 @@
+#include "vehs/likelihood/refine.hpp"
+
+#include <ceres/ceres.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
+#include "vehs/core/error.hpp"
+#include "vehs/likelihood/detail/evaluator.hpp"
+#include "vehs/likelihood/detail/selection.hpp"
+
+namespace vehs::likelihood {
+
+using detail::Derivatives;
+using detail::EvaluationFailure;
+using detail::Evaluator;
+using detail::Parameterization;
+
+bool RefineOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& m) {
+    if (error) *error = m;
+    return false;
+  };
+  if (const std::string why = filter.invalid_reason(); !why.empty()) return fail(why);
+  if (!(measurement_sd_start >= 0.0)) return fail("measurement_sd_start must be >= 0");
+  if (!(lr_alpha > 0.0 && lr_alpha < 0.5)) return fail("lr_alpha must be in (0, 0.5)");
+  if (max_iterations < 1) return fail("max_iterations must be >= 1");
+  if (max_rounds < 1) return fail("max_rounds must be >= 1");
+  if (!(step_tolerance > 0.0)) return fail("step_tolerance must be > 0");
+  if (warm_start_samples < 1000) return fail("warm_start_samples must be >= 1000");
+  return true;
+}
+
+int Result::find(const std::string& name) const {
+  for (std::size_t i = 0; i < parameters.size(); ++i)
+    if (parameters[i].name == name) return int(i);
+  return -1;
+}
+
+std::string Summary::BriefReport() const {
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "likelihood: %s, log L %.6g -> %.6g, %d rounds, %d iterations, %d gradients, "
+                "Newton step %.2g SE, %.3g s",
+                converged ? "converged" : "NOT converged", initial_log_likelihood,
+                final_log_likelihood, rounds, iterations, gradient_evaluations, newton_step_se,
+                seconds);
+  return buf;
+}
+
+std::string Summary::FullReport() const {
+  std::ostringstream os;
+  os << BriefReport() << "\n"
+     << "  observations " << observations << " in " << blocks << " blocks, " << parameters
+     << " parameters, " << substeps << " RK4 substeps per interval, " << threads << " threads\n"
+     << "  covariance: " << covariance << "\n  last Ceres message: " << message << "\n";
+  for (const auto& s : selection)
+    os << "  selection: remove " << s.removed << " (|z| " << s.z << "): 2 dlogL " << s.delta
+       << (s.accepted ? " < " : " >= ") << s.threshold << (s.accepted ? " removed" : " kept")
+       << "\n";
+  return os.str();
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// −log L in whitened coordinates θ = θ₀ + W z, offset so that the cost stays positive.
+class WhitenedObjective final : public ceres::FirstOrderFunction {
+ public:
+  WhitenedObjective(const Evaluator& ev, const Eigen::VectorXd& theta0, const Eigen::MatrixXd& W,
+                    double offset, int& values, int& gradients)
+      : ev_(ev), theta0_(theta0), W_(W), offset_(offset), values_(values), gradients_(gradients) {}
+
+  bool Evaluate(const double* z, double* cost, double* gradient) const override {
+    const Eigen::VectorXd theta =
+        theta0_ + W_ * Eigen::Map<const Eigen::VectorXd>(z, W_.cols());
+    if (!theta.allFinite()) return false;
+    if (gradient) {
+      ++gradients_;
+      Derivatives d;
+      if (!ev_.derivatives(theta.data(), d, false, false, nullptr)) return false;
+      *cost = offset_ - d.log_likelihood;
+      Eigen::Map<Eigen::VectorXd>(gradient, W_.cols()) = -(W_.transpose() * d.gradient);
+      return true;
+    }
+    ++values_;
+    double ll = 0.0;
+    if (!ev_.value(theta.data(), ll, nullptr)) return false;
+    *cost = offset_ - ll;
+    return true;
+  }
+  int NumParameters() const override { return int(W_.cols()); }
+
+ private:
+  const Evaluator& ev_;
+  Eigen::VectorXd theta0_;
+  Eigen::MatrixXd W_;
+  double offset_;
+  int& values_;
+  int& gradients_;
+};
+
+/// W with W Wᵀ = F_reg⁻¹ (F regularised so that a unit step never moves a log-scale parameter
+/// or a phase by more than 1, and so that an unidentified direction cannot blow up).
+Eigen::MatrixXd whitening(const Parameterization& p, const Eigen::MatrixXd& F,
+                          const std::string& where) {
+  const Eigen::Index n = F.rows();
+  Eigen::MatrixXd R = 0.5 * (F + F.transpose());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const ParameterInfo& info = p.parameters()[std::size_t(i)];
+    const double d = R(i, i);
+    if (!(d > 0.0) || !std::isfinite(d))
+      throw Error(where + ": parameter " + info.name + " does not influence the likelihood "
+                  "(zero Fisher information); remove it or hold it fixed");
+    const bool bounded = info.log_scale || info.kind == ParameterKind::RecordPhase;
+    R(i, i) += std::max(1e-10 * d, bounded ? 1.0 : 0.0);
+  }
+  Eigen::LLT<Eigen::MatrixXd> llt(R);
+  if (llt.info() != Eigen::Success) {
+    // fall back to the diagonal (strongly collinear parameters)
+    Eigen::MatrixXd W = Eigen::MatrixXd::Zero(n, n);
+    for (Eigen::Index i = 0; i < n; ++i) W(i, i) = 1.0 / std::sqrt(R(i, i));
+    return W;
+  }
+  // F = L Lᵀ → W = L⁻ᵀ
+  Eigen::MatrixXd Linv = llt.matrixL().solve(Eigen::MatrixXd::Identity(n, n));
+  return Linv.transpose();
+}
+
+struct FitState {
+  Eigen::VectorXd theta;
+  Derivatives d;  ///< at theta, with Fisher
+  Eigen::MatrixXd W;
+  double step_se = 0.0;
+};
+
+double newton_step_se(const Eigen::MatrixXd& W, const Eigen::VectorXd& g) {
+  return (W.transpose() * g).norm();
+}
+
+Derivatives derivatives_or_throw(const Evaluator& ev, const Eigen::VectorXd& theta, bool batches,
+                                 const char* when) {
+  Derivatives d;
+  EvaluationFailure f;
+  if (!ev.derivatives(theta.data(), d, true, batches, &f))
+    throw Error(ev.message(f) + std::string(" (") + when + ")");
+  return d;
+}
+
+/// Rounds of whitened BFGS until the Newton step is below the tolerance.
+FitState maximise(const Evaluator& ev, Eigen::VectorXd theta, const RefineOptions& o,
+                  Summary& s, const std::string& where) {
+  const Parameterization& p = ev.parameterization();
+  FitState st;
+  st.theta = std::move(theta);
+  st.d = derivatives_or_throw(ev, st.theta, false, "at the start values");
+  ++s.gradient_evaluations;
+  for (int round = 0; round < o.max_rounds; ++round) {
+    st.W = whitening(p, st.d.fisher, where);
+    st.step_se = newton_step_se(st.W, st.d.gradient);
+    if (st.step_se < o.step_tolerance) {
+      s.converged = true;
+      break;
+    }
+    ++s.rounds;
+    const double offset = st.d.log_likelihood + double(ev.observations()) + 1.0;
+    auto* fn = new WhitenedObjective(ev, st.theta, st.W, offset, s.value_evaluations,
+                                     s.gradient_evaluations);
+    ceres::GradientProblem problem(fn);
+    ceres::GradientProblemSolver::Options co;
+    co.line_search_direction_type = ceres::BFGS;
+    co.max_num_iterations = o.max_iterations;
+    co.function_tolerance = 1e-7 / double(ev.observations() + 1);
+    co.gradient_tolerance = 0.1 * o.step_tolerance;
+    co.parameter_tolerance = 1e-10;
+    co.logging_type = ceres::SILENT;
+    std::vector<double> z(std::size_t(st.W.cols()), 0.0);
+    ceres::GradientProblemSolver::Summary cs;
+    ceres::Solve(co, problem, z.data(), &cs);
+    s.iterations += int(cs.iterations.size());
+    s.message = cs.message;
+    const Eigen::VectorXd next =
+        st.theta + st.W * Eigen::Map<const Eigen::VectorXd>(z.data(), Eigen::Index(z.size()));
+    Derivatives dn;
+    if (!ev.derivatives(next.data(), dn, true, false, nullptr) ||
+        dn.log_likelihood < st.d.log_likelihood) {
+      // no progress possible from here (Ceres kept the start): stop with what we have
+      break;
+    }
+    ++s.gradient_evaluations;
+    const bool moved = dn.log_likelihood > st.d.log_likelihood;
+    st.theta = next;
+    st.d = std::move(dn);
+    if (!moved) break;
+  }
+  st.W = whitening(p, st.d.fisher, where);
+  st.step_se = newton_step_se(st.W, st.d.gradient);
+  s.converged = st.step_se < o.step_tolerance;
+  return st;
+}
+
+/// A share of the data for the warm start: eight evenly spaced pieces of every record (so that
+/// the piece covers the record's range of amplitudes), or, with per-record parameters (phases),
+/// the leading share of every record (one record per record).
+Dataset warm_start_share(const Dataset& data, double share, bool keep_records) {
+  Dataset out;
+  for (const auto& r : data.records) {
+    const std::size_t want = std::min(r.size, std::max<std::size_t>(std::size_t(std::ceil(share * double(r.size))), 64));
+    const std::size_t pieces = keep_records ? 1 : std::max<std::size_t>(1, std::min<std::size_t>(8, want / 250));
+    const std::size_t len = (want + pieces - 1) / pieces;
+    for (std::size_t p = 0; p < pieces; ++p) {
+      const std::size_t first = pieces == 1 ? 0 : (r.size - len) * p / (pieces - 1);
+      const std::size_t n = std::min(len, r.size - first);
+      if (n < 2) continue;
+      Record rr = r;
+      rr.offset = out.x.size();
+      rr.size = n;
+      rr.first_line = r.first_line + first;
+      rr.t0 = r.t0 + double(first) * r.dt;
+      out.x.insert(out.x.end(), data.x_of(r) + first, data.x_of(r) + first + n);
+      if (data.has_u()) out.u.insert(out.u.end(), data.u_of(r) + first, data.u_of(r) + first + n);
+      out.records.push_back(rr);
+    }
+  }
+  return out;
+}
+
+double data_sd(const Dataset& data) {
+  double mean = 0.0, m2 = 0.0;
+  std::size_t n = 0;
+  for (double v : data.x) {
+    ++n;
+    const double d = v - mean;
+    mean += d / double(n);
+    m2 += d * (v - mean);
+  }
+  return n > 1 ? std::sqrt(m2 / double(n - 1)) : 0.0;
+}
+
+/// Covariance of θ (internal scale) at the optimum.
+Eigen::MatrixXd internal_covariance(const Evaluator& ev, const FitState& st, const RefineOptions& o,
+                                    Summary& s) {
+  const Eigen::Index n = st.theta.size();
+  const Eigen::MatrixXd& W = st.W;
+  Eigen::MatrixXd Finv = W * W.transpose();
+  if (o.covariance == Covariance::Fisher) {
+    s.covariance = "fisher";
+    Eigen::LLT<Eigen::MatrixXd> llt(st.d.fisher);
+    return llt.info() == Eigen::Success ? Eigen::MatrixXd(llt.solve(Eigen::MatrixXd::Identity(n, n)))
+                                        : Finv;
+  }
+  // observed information in whitened coordinates by forward differences of the gradient (at
+  // the optimum the gradient is ~0; the error is O(h) third derivatives, h = 0.01 SE)
+  const double h = 1e-2;
+  Eigen::MatrixXd Hz(n, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Eigen::VectorXd tp = st.theta + h * W.col(j);
+    Derivatives dp;
+    s.gradient_evaluations += 1;
+    if (!ev.derivatives(tp.data(), dp, false, false, nullptr)) {
+      s.covariance = "fisher (observed information failed: the filter failed near the optimum)";
+      return Finv;
+    }
+    Hz.col(j) = -(W.transpose() * (dp.gradient - st.d.gradient)) / h;
+  }
+  Hz = 0.5 * (Hz + Hz.transpose()).eval();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hz);
+  if (es.info() != Eigen::Success || es.eigenvalues().minCoeff() <= 1e-8) {
+    s.covariance = "fisher (the observed information is not positive definite)";
+    return Finv;
+  }
+  const Eigen::MatrixXd Hzinv = es.eigenvectors() * es.eigenvalues().cwiseInverse().asDiagonal() *
+                                es.eigenvectors().transpose();
+  if (o.covariance == Covariance::Observed) {
+    s.covariance = "observed";
+    return W * Hzinv * W.transpose();
+  }
+  Derivatives db = derivatives_or_throw(ev, st.theta, true, "sandwich scores");
+  ++s.gradient_evaluations;
+  const Eigen::MatrixXd Bz = W.transpose() * (db.batch_scores.transpose() * db.batch_scores) * W;
+  s.covariance = "sandwich (" + std::to_string(db.batch_scores.rows()) + " batches)";
+  return W * (Hzinv * Bz * Hzinv) * W.transpose();
+}
+
+/// A moment fit can have a diffusion polynomial that turns negative inside the data's range
+/// (issue 12: 2Q < 0 at coarse sampling), where the filter cannot start. Then every
+/// non-constant diffusion term restarts at a tiny positive value (kept as a parameter) and the
+/// constant at the model's mean a22 over the data; a start that still fails is reported.
+void repair_start(ObservedModel& start, const Dataset& data, const FilterOptions& fo) {
+  try {
+    (void)log_likelihood(start, data, fo);
+    return;
+  } catch (const Error& e) {
+    if (std::string(e.what()).find("a22 < 0") == std::string::npos) throw;
+  }
+  double mean = 0.0;
+  for (double x : data.x) mean += std::max(start.model.a22(x, 0.0), 0.0);
+  mean /= double(data.x.size());
+  if (!(mean > 0.0)) mean = 1e-6;
+  bool has_constant = false;
+  for (auto& tc : start.model.diffusion) {
+    if (tc.term == Term::monomial(0, 0)) {
+      tc.coef = mean;
+      has_constant = true;
+    } else if (tc.coef != 0.0) {
+      tc.coef = 1e-6 * mean;
+    }
+  }
+  if (!has_constant) {
+    start.model.diffusion.push_back({Term::monomial(0, 0), mean});
+    canonicalize(start.model.diffusion, "likelihood: start model");
+  }
+}
+
+}  // namespace
+
+namespace detail {
+
+/// One maximum-likelihood fit of a fixed support.
+Result fit_support(const ObservedModel& start, const Dataset& data, const RefineOptions& o,
+                   const FitChoice& choice, bool final_covariance) {
+  const auto t0 = Clock::now();
+  const std::string where = "likelihood";
+  const Parameterization p(start, choice, data.records.size(), where);
+  Evaluator ev(p, data, o.filter, where);
+  if (o.sandwich_batch > 0) {
+    ev.batch_samples = o.sandwich_batch;
+  } else if (data.records.size() < 50) {
+    ev.batch_samples = std::max<std::size_t>(16, (data.x.size() + 49) / 50);
+  }
+  Result res;
+  Summary& s = res.summary;
+  s.observations = ev.observations();
+  s.blocks = ev.blocks().size();
+  s.parameters = p.size();
+  s.substeps = ev.settings().substeps;
+  s.threads = ev.threads();
+  Eigen::VectorXd theta = Eigen::Map<const Eigen::VectorXd>(p.initial().data(), Eigen::Index(p.size()));
+  {
+    double ll0 = 0.0;
+    EvaluationFailure f;
+    if (!ev.value(theta.data(), ll0, &f)) throw Error(ev.message(f) + " (at the start values)");
+    s.initial_log_likelihood = ll0;
+  }
+  if (ev.observations() > o.warm_start_samples) {
+    // warm start on an eighth of the data (recursively, down to warm_start_samples); kept only
+    // when the filter runs on all the data from there (a fit to a part can be unstable elsewhere)
+    const Dataset sub = warm_start_share(data, 0.125, p.local_phase());
+    if (2 * sub.x.size() <= data.x.size()) {  // (records too short to share: no warm start)
+      RefineOptions so = o;
+      so.filter.substeps = ev.settings().substeps;
+      so.progress = false;
+      try {
+        const ObservedModel warm = fit_support(start, sub, so, choice, false).model;
+        const Parameterization pw(warm, choice, data.records.size(), where);
+        double ll = 0.0;
+        if (ev.value(pw.initial().data(), ll, nullptr) && ll > s.initial_log_likelihood)
+          theta = Eigen::Map<const Eigen::VectorXd>(pw.initial().data(), Eigen::Index(pw.size()));
+      } catch (const Error&) {
+        // the warm start failed on the part: start from the given values
+      }
+    }
+  }
+  FitState st = maximise(ev, theta, o, s, where);
+  s.final_log_likelihood = st.d.log_likelihood;
+  s.newton_step_se = st.step_se;
+  Eigen::MatrixXd cov;
+  if (final_covariance) {
+    cov = internal_covariance(ev, st, o, s);
+  } else {
+    s.covariance = "fisher";
+    cov = st.W * st.W.transpose();
+  }
+  // natural scale
+  const Eigen::Index n = st.theta.size();
+  Eigen::VectorXd J(n);
+  for (Eigen::Index i = 0; i < n; ++i) J[i] = p.jacobian(std::size_t(i), st.theta[i]);
+  res.covariance = J.asDiagonal() * cov * J.asDiagonal();
+  const std::vector<double> th(st.theta.data(), st.theta.data() + n);
+  res.model = p.model_at(th);
+  res.parameters = p.parameters();
+  res.values.resize(std::size_t(n));
+  res.stderrs.resize(std::size_t(n));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    res.values[std::size_t(i)] = p.natural(std::size_t(i), st.theta[i]);
+    res.stderrs[std::size_t(i)] = std::sqrt(std::max(res.covariance(i, i), 0.0));
+  }
+  attach_stderrs(res);
+  res.log_likelihood = st.d.log_likelihood;
+  res.bic = -2.0 * res.log_likelihood + double(n) * std::log(double(ev.observations()));
+  s.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  if (o.progress) std::fprintf(stderr, "%s\n", s.BriefReport().c_str());
+  return res;
+}
+
+}  // namespace detail
+
+Result refine(const ObservedModel& start, const Dataset& data, const RefineOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw Error("likelihood: " + why);
+  validate_model(start.model, "likelihood: start model");
+  ObservedModel first = start;
+  detail::FitChoice choice;
+  choice.fit_measurement_noise = options.estimate_measurement_noise;
+  choice.per_record_phase = options.per_record_phase;
+  choice.fixed = options.fixed;
+  if (options.estimate_measurement_noise && !(first.measurement_sd > 0.0)) {
+    first.measurement_sd = options.measurement_sd_start > 0.0 ? options.measurement_sd_start
+                                                              : 0.01 * data_sd(data);
+    if (!(first.measurement_sd > 0.0)) throw Error("likelihood: the records have zero variance");
+  }
+  repair_start(first, data, options.filter);
+  if (!options.select) return detail::fit_support(first, data, options, choice, true);
+  return detail::select_support(first, data, options, choice);
+}
+
+}  // namespace vehs::likelihood

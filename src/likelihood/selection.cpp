@@ -1,0 +1,153 @@
+#include "vehs/likelihood/detail/selection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "vehs/core/error.hpp"
+
+namespace vehs::likelihood::detail {
+
+void attach_stderrs(Result& res) {
+  Model& m = res.model.model;
+  m.drift_stderr.clear();
+  m.diffusion_stderr.clear();
+  for (auto& e : m.effects) e.stderr_.clear();
+  for (std::size_t i = 0; i < res.parameters.size(); ++i) {
+    const ParameterInfo& p = res.parameters[i];
+    const double se = res.stderrs[i];
+    switch (p.kind) {
+      case ParameterKind::Drift:
+      case ParameterKind::Diffusion: {
+        const std::string term = p.name.substr(p.name.find('[') + 1, p.name.size() - p.name.find('[') - 2);
+        (p.kind == ParameterKind::Drift ? m.drift_stderr : m.diffusion_stderr)[term] = se;
+        break;
+      }
+      case ParameterKind::Effect:
+        for (auto& e : m.effects)
+          if (e.id == p.effect) e.stderr_[p.effect_param] = se;
+        break;
+      default: break;
+    }
+  }
+}
+
+double chi2_1_upper_quantile(double p) {
+  // P(χ²₁ > q) = erfc(sqrt(q/2)): bisection on z = sqrt(q)
+  double lo = 0.0, hi = 40.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
+  }
+  const double z = 0.5 * (lo + hi);
+  return z * z;
+}
+
+namespace {
+
+bool kept(const ParameterInfo& p, const RefineOptions& o, const Model& m) {
+  if (p.kind == ParameterKind::MeasurementSd) return false;
+  if (p.kind != ParameterKind::Drift && p.kind != ParameterKind::Diffusion) return true;
+  if (p.log_scale) return true;  // diffusion[1]
+  const TermList& list = p.kind == ParameterKind::Drift ? m.drift : m.diffusion;
+  const std::vector<Term>& keep = p.kind == ParameterKind::Drift ? o.keep_drift : o.keep_diffusion;
+  // the p.index-th non-zero term of the list
+  int k = -1;
+  for (const auto& tc : list) {
+    if (tc.coef == 0.0) continue;
+    if (++k == p.index) return std::find(keep.begin(), keep.end(), tc.term) != keep.end();
+  }
+  return true;
+}
+
+/// The model without parameter `p` (a term's coefficient set to 0, or no measurement noise).
+ObservedModel without(const ObservedModel& m, const ParameterInfo& p, FitChoice& choice) {
+  ObservedModel out = m;
+  if (p.kind == ParameterKind::MeasurementSd) {
+    out.measurement_sd = 0.0;
+    choice.fit_measurement_noise = false;
+    return out;
+  }
+  TermList& list = p.kind == ParameterKind::Drift ? out.model.drift : out.model.diffusion;
+  int k = -1;
+  for (auto it = list.begin(); it != list.end(); ++it) {
+    if (it->coef == 0.0) continue;
+    if (++k == p.index) {
+      list.erase(it);
+      break;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Result select_support(const ObservedModel& start, const Dataset& data, const RefineOptions& o,
+                      FitChoice choice) {
+  Result current = fit_support(start, data, o, choice, false);
+  // refits start at the previous optimum: no warm start on a subsample
+  RefineOptions near = o;
+  near.warm_start_samples = std::numeric_limits<std::size_t>::max();
+  std::vector<SelectionStep> steps;
+  const double n = double(current.summary.observations);
+  std::vector<std::string> unremovable;  // terms whose reduced model the filter cannot start
+  for (;;) {
+    int best = -1;
+    double best_z = 0.0;
+    for (std::size_t i = 0; i < current.parameters.size(); ++i) {
+      const ParameterInfo& p = current.parameters[i];
+      if (kept(p, o, current.model.model)) continue;
+      if (std::find(unremovable.begin(), unremovable.end(), p.name) != unremovable.end()) continue;
+      const double se = current.stderrs[i];
+      const double z = se > 0.0 ? std::abs(current.values[i]) / se : 0.0;
+      if (best < 0 || z < best_z) {
+        best = int(i);
+        best_z = z;
+      }
+    }
+    if (best < 0) break;
+    const ParameterInfo& p = current.parameters[std::size_t(best)];
+    FitChoice reduced_choice = choice;
+    const ObservedModel reduced = without(current.model, p, reduced_choice);
+    SelectionStep st;
+    st.removed = p.name;
+    st.z = best_z;
+    Result r;
+    try {
+      r = fit_support(reduced, data, near, reduced_choice, false);
+    } catch (const Error& e) {
+      // e.g. removing a damping term leaves a model that is unstable at the data: keep it
+      st.delta = INFINITY;
+      st.threshold = 0.0;
+      st.accepted = false;
+      if (o.progress)
+        std::fprintf(stderr, "likelihood selection: cannot remove %s (%s)\n", p.name.c_str(), e.what());
+      steps.push_back(st);
+      unremovable.push_back(p.name);
+      continue;
+    }
+    st.log_likelihood = r.log_likelihood;
+    st.delta = 2.0 * (current.log_likelihood - r.log_likelihood);
+    if (o.criterion == SelectionCriterion::Bic) {
+      st.threshold = std::log(n);
+    } else {
+      const bool boundary = p.kind == ParameterKind::MeasurementSd;
+      st.threshold = chi2_1_upper_quantile(boundary ? 2.0 * o.lr_alpha : o.lr_alpha);
+    }
+    st.accepted = st.delta < st.threshold;
+    if (o.progress)
+      std::fprintf(stderr, "likelihood selection: remove %s (|z| %.3g): 2 dlogL %.4g vs %.4g: %s\n",
+                   st.removed.c_str(), st.z, st.delta, st.threshold, st.accepted ? "removed" : "kept");
+    steps.push_back(st);
+    if (!st.accepted) break;
+    current = std::move(r);
+    choice = reduced_choice;
+  }
+  // final fit with the requested covariance
+  Result final = fit_support(current.model, data, near, choice, true);
+  final.summary.selection = steps;
+  return final;
+}
+
+}  // namespace vehs::likelihood::detail

@@ -1,0 +1,42 @@
+#include "vehs/likelihood/signals.hpp"
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "vehs/core/error.hpp"
+
+namespace vehs::likelihood {
+
+std::vector<double> random_phase_multisine(std::size_t samples, double dt, int lines, double dw,
+                                           double amplitude, std::uint64_t seed) {
+  std::mt19937_64 g(seed);
+  std::uniform_real_distribution<double> phase(0.0, 2.0 * M_PI);
+  std::vector<double> u(samples, 0.0);
+  for (int j = 1; j <= lines; ++j) {
+    const double w = dw * j, p = phase(g);
+    for (std::size_t i = 0; i < samples; ++i) u[i] += amplitude * std::cos(w * dt * double(i) + p);
+  }
+  return u;
+}
+
+Dataset slice_record(const Dataset& data, std::size_t record, std::size_t first, std::size_t last) {
+  if (record >= data.records.size()) throw Error("slice: no record " + std::to_string(record));
+  const Record& r = data.records[record];
+  if (first >= last || last > r.size)
+    throw Error("slice: samples [" + std::to_string(first) + ", " + std::to_string(last) +
+                ") are outside record " + std::to_string(r.id) + " of " + r.source + " (" +
+                std::to_string(r.size) + " samples)");
+  Dataset d;
+  Record s = r;
+  s.offset = 0;
+  s.size = last - first;
+  s.first_line = r.first_line + first;
+  s.t0 = r.t0 + double(first) * r.dt;
+  d.records.push_back(s);
+  d.x.assign(data.x_of(r) + first, data.x_of(r) + last);
+  if (data.has_u()) d.u.assign(data.u_of(r) + first, data.u_of(r) + last);
+  return d;
+}
+
+}  // namespace vehs::likelihood
