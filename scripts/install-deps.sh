@@ -10,6 +10,8 @@ packages=(
   # Ceres Solver: maximum likelihood with automatic derivatives (likelihood area)
   libceres-dev
   gnuplot-nox chromium
+  # scripts/simd_compare.py (the SIMD-width check of .ci/run; standard library only)
+  python3
   # an optimised BLAS for UMFPACK's dense kernels (Debian's BLAS alternative: libsuitesparse
   # links libblas.so.3, which this package provides with priority over the reference BLAS;
   # the serial variant, because vehs parallelises over sweep points itself)

@@ -19,6 +19,7 @@ void drift_pass_span(const Context& cx, bool ito, bool noise, const Span& sp, Dr
   ito = ito && Kv > 0;
   RowBlock b;
   MatrixXd Phi(kB, K + 1), Psi(kB, P), Dv(kB, std::max(Kv, 1)), D2(kB, std::max(Kv, 1)), Dx(kB, K);
+  MatrixXd Resp(kB, std::max(Kv, 1));
   std::vector<double> scratch(std::max(cx.phi.scratch_size(), cx.psi.scratch_size()));
   for (std::size_t j0 = sp.begin; j0 < sp.end; j0 += kBlockRows) {
     const int m = static_cast<int>(std::min<std::size_t>(kBlockRows, sp.end - j0));
@@ -39,6 +40,10 @@ void drift_pass_span(const Context& cx, bool ito, bool noise, const Span& sp, Dr
     if (ito) {
       cx.psi.values(b, Psi.data(), kB, scratch.data());
       add_AtB(Psi, Dv, m, P, Kv, acc.ito);
+      if (cx.phi.sign_smoothing()) {
+        cx.phi.sign_ito_response(b, Resp.data(), kB);
+        acc.resp.noalias() += Resp.topRows(m).colwise().sum().transpose();
+      }
     }
     if (noise) {
       if (Kv > 0) {
@@ -81,6 +86,8 @@ QuadraticStats drift_quadratic(const DriftStats& s, const Dictionary& phi,
   if (corr.ito && !vt.empty() && corr.q.size() > 0) {
     const VectorXd c = s.ito.transpose() * corr.q;  // Σ ∂_vφ_j a22
     for (std::size_t i = 0; i < vt.size(); ++i) q.b[vt[i]] -= 0.5 * c[static_cast<Index>(i)];
+    // the friction's response (smoothed_sign.hpp): −μ·Σ ½a22 S'Q = c·(…), on the diagonal
+    for (std::size_t i = 0; i < vt.size(); ++i) q.G(vt[i], vt[i]) += s.resp[static_cast<Index>(i)];
   }
   if (corr.var_v_noise != 0.0 && !vt.empty()) {
     MatrixXd H = MatrixXd::Zero(K, K);

@@ -18,6 +18,7 @@ namespace vehs::identify::detail {
 struct DriftStats {
   Eigen::MatrixXd Gaug;  // (K+1)², lower triangle filled during accumulation
   Eigen::MatrixXd ito;   // P × Kv: Σ ψ_m ∂_vφ_j
+  Eigen::VectorXd resp;  // Kv: Σ of the friction's response term (Dictionary::sign_ito_response)
   Eigen::MatrixXd hvv;   // Kv × Kv: Σ ∂_vφ ∂_vφᵀ
   Eigen::MatrixXd h2;    // K × Kv: Σ φ ∂²_vφᵀ
   Eigen::VectorXd dx;    // K: Σ ∂_xφ
@@ -27,11 +28,12 @@ struct DriftStats {
 
   DriftStats() = default;
   DriftStats(int K, int P, int Kv)
-      : Gaug(Eigen::MatrixXd::Zero(K + 1, K + 1)), ito(Eigen::MatrixXd::Zero(P, Kv)), hvv(Eigen::MatrixXd::Zero(Kv, Kv)),
-        h2(Eigen::MatrixXd::Zero(K, Kv)), dx(Eigen::VectorXd::Zero(K)) {}
+      : Gaug(Eigen::MatrixXd::Zero(K + 1, K + 1)), ito(Eigen::MatrixXd::Zero(P, Kv)), resp(Eigen::VectorXd::Zero(Kv)),
+        hvv(Eigen::MatrixXd::Zero(Kv, Kv)), h2(Eigen::MatrixXd::Zero(K, Kv)), dx(Eigen::VectorXd::Zero(K)) {}
   void add(const DriftStats& o) {
     Gaug += o.Gaug;
     ito += o.ito;
+    resp += o.resp;
     hvv += o.hvv;
     h2 += o.h2;
     dx += o.dx;

@@ -261,6 +261,8 @@ void set_up_round(Problem& P, const Model& cur, const std::vector<Term>& support
     }
   }
   P.phi.set_sign_kernel_halfwidth(std::max(0.05 * std::sqrt(v2 / std::max(nv, 1.0)), 1e-300));
+  // sign(y) as the tent-averaged acceleration sees it (smoothed_sign.hpp; sensor noise neglected)
+  if (P.central) P.phi.set_sign_smoothing(P.h, cur.diffusion, 1e-300, 0.0);
   P.comps = std::move(comps);
   P.base = std::make_shared<const BaseMoments>(base_moments(P));
   P.c_base = P.base->G.ldlt().solve(P.base->b);  // baseline drift without the dynamic effects

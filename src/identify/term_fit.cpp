@@ -334,6 +334,15 @@ void finish_terms(const std::vector<DiffusionStats>& qfolds, const DiffusionSetu
   res.report.fit.stderr_batch_rows = ds.block_rows;
 }
 
+/// sign(y) as the tent-averaged acceleration of central kinematics sees it (smoothed_sign.hpp):
+/// a22 from the pilot's diffusion, the noisy estimator's white noise in v̂.
+void set_sign_smoothing(Dictionaries& dict, const Pilot& pilot, Estimator est, double h) {
+  TermList a22;
+  for (int j = 0; j < dict.psi.size(); ++j) a22.push_back({dict.psi.term(j), pilot.q[j]});
+  const double var_v_noise = est == Estimator::Noisy ? std::max(pilot.C2k - pilot.C3k, 0.0) * h * h / 2.0 : 0.0;
+  dict.phi.set_sign_smoothing(h, a22, std::max(0.05 * std::abs(pilot.mean_z), 1e-300), var_v_noise);
+}
+
 std::size_t shortest_record(const Dataset& data) {
   std::size_t n = data.records.front().size;
   for (const auto& r : data.records) n = std::min(n, r.size);
@@ -373,6 +382,7 @@ Result identify_terms(const Dataset& data, const Options& options) {
   const int k = sampling.k;
   const Kinematics kin(central, k, dt);
   dict.phi.set_sign_kernel_halfwidth(std::max(0.05 * pilot.v_sd, 1e-300));
+  if (central) set_sign_smoothing(dict, pilot, est, kin.h);
   fit.estimator = est;
   fit.stride = k;
   fit.sampling = {dt,          diag.k, diag.rho_1, diag.rho_k, diag.rho_2k, diag.rho_3k, diag.noise_share,

@@ -4,6 +4,8 @@
 // libraries.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -13,6 +15,7 @@
 #include "vehs/identify/identify.hpp"
 #include "vehs/io/model_file.hpp"
 #include "vehs/sim/simulate.hpp"
+#include "stat_bounds.hpp"
 
 namespace diag_test {
 
@@ -42,7 +45,7 @@ inline vehs::Dataset simulate(const vehs::Model& m, const DataSpec& s) {
   o.substeps = s.substeps;
   o.records = s.records;
   o.samples = s.samples;
-  o.seed = s.seed;
+  o.seed = vehs_test::seed(s.seed);  // seed studies shift it (stat_bounds.hpp)
   o.scheme = s.scheme;
   o.sensor_noise = s.sensor_noise;
   o.record_y = false;
@@ -61,10 +64,36 @@ inline vehs::Model fit(const vehs::Dataset& d, const std::vector<std::string>& d
   return vehs::identify::identify(d, o).model;
 }
 
+/// Records a diagnosis for seed studies (scripts/seed-study.sh): adequate (1/0) and the smallest
+/// component p-value over the verdict's threshold, as log10 (< 0: inadequate).
+inline void tally_result(const std::string& label, const vehs::diagnose::Result& r) {
+  double pmin = 1.0;
+  for (const auto& c : r.components)
+    if (c.test.available) pmin = std::min(pmin, c.test.p_value);
+  vehs_test::tally(label + " adequate", r.adequate());
+  vehs_test::tally(label + " log10(min p / threshold)", std::log10(std::max(pmin, 1e-300) / r.threshold));
+}
+
+/// Records the suspects of a diagnosis with a hidden `effect` for seed studies: whether it is
+/// ranked first and significant, its evidence over the runner-up's, its z, and a fitted parameter
+/// relative to `truth`.
+inline void tally_result_suspects(const vehs::diagnose::Result& r, const std::string& effect,
+                                  const std::string& param, double truth) {
+  const auto& ranked = r.suspects.ranked;
+  if (ranked.empty()) return;
+  vehs_test::tally(effect + " first", ranked[0].effect == effect);
+  vehs_test::tally(effect + " significant", ranked[0].significant);
+  vehs_test::tally(effect + " z", ranked[0].z);
+  if (ranked.size() > 1) vehs_test::tally(effect + " evidence lead (nats)", ranked[0].evidence - ranked[1].evidence);
+  if (ranked[0].effect == effect && !param.empty())
+    vehs_test::tally(effect + " " + param, ranked[0].params.at(param) / truth - 1.0,
+                     ranked[0].params.at(param) / truth - 1.0);
+}
+
 /// Fast default options of the tests.
 inline vehs::diagnose::Options fast_options(std::uint64_t seed) {
   vehs::diagnose::Options o;
-  o.seed = seed;
+  o.seed = vehs_test::seed(seed);
   o.replicates = 2;
   o.fpk_cells = 80;
   return o;

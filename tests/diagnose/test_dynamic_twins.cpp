@@ -1,7 +1,8 @@
 // Lens and twins of models WITH dynamic effects (issue 7): harmonic forcing in the records' absolute
 // time (records starting at different t0), impact stops, the electromechanical hidden state and
 // coloured excitation. On data simulated from such a model, diagnosing the true model must be
-// adequate for at least 90 % of seeds; dropping an effect must be detected.
+// adequate for at least 7 of 10 seeds (false failure ≤ 1e-4, see there); dropping an effect must
+// be detected.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -76,7 +77,7 @@ vehs::diagnose::Options options(std::uint64_t seed) {
 }  // namespace
 
 TEST_CASE("calibration with dynamic effects: the true model (stops, forcing in absolute time, electrical "
-          "state, coloured excitation) is adequate on its own data for at least 90 % of seeds",
+          "state, coloured excitation) is adequate on its own data for at least 7 of 10 seeds",
           "[diagnose][calibration][dynamic]") {
   const double phase = 0.7;
   int adequate = 0;
@@ -85,10 +86,13 @@ TEST_CASE("calibration with dynamic effects: the true model (stops, forcing in a
     const auto d = two_epochs(phase, 8100 + static_cast<std::uint64_t>(k));
     const Result r = vehs::diagnose::diagnose(dynamic_model(phase), d, options(static_cast<std::uint64_t>(k)));
     UNSCOPED_INFO("seed " << k << ": " << describe(r));
+    tally_result("true dynamic model", r);
     CHECK(r.lens.kinematics == vehs::diagnose::Kinematics::Central);
     adequate += r.adequate();
   }
-  CHECK(adequate >= 9);
+  // α = 1 % family-wise; with a calibration error up to 2 × α: P(Bin(10, 0.98) < 7) = 3.1e-5 (the
+  // former 9 of 10: 1.6e-2). The adequate fraction over seed shifts: bench/results/.
+  CHECK(adequate >= vehs_test::binomial_floor(10, 0.98));
 }
 
 TEST_CASE("with dynamic effects, a wrong forcing phase (time origin ignored) and a missing electrical state "
@@ -102,6 +106,8 @@ TEST_CASE("with dynamic effects, a wrong forcing phase (time origin ignored) and
       if (e.id == vehs::EffectId::HarmonicForcing) e.params["phase"] = phase + 2.0;
     const Result r = vehs::diagnose::diagnose(wrong, d, options(1));
     INFO("wrong phase: " << describe(r));
+    tally_result("wrong phase", r);
+    // power: log10(min p / threshold) −8.7 ± sd 3.3 over 4 seed shifts (P(adequate) ≈ 0.4 %)
     CHECK(!r.adequate());
   }
   {
@@ -111,6 +117,10 @@ TEST_CASE("with dynamic effects, a wrong forcing phase (time origin ignored) and
                           without.effects.end());
     const Result r = vehs::diagnose::diagnose(without, d, options(2));
     INFO("without the electrical state: " << describe(r));
+    tally_result("without electrical state", r);
+    // KNOWN WEAKNESS: log10(min p / threshold) −1.2, −0.04, −2.0, −0.14 over 4 seed shifts —
+    // inadequate each time, but twice by a hair: the missing state (coupling 0.08) is at the edge
+    // of what 32 × 6000 samples resolve; false failure per seed of order 10–30 %.
     CHECK(!r.adequate());
   }
 }

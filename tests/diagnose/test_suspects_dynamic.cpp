@@ -42,8 +42,18 @@ std::string describe(const diagnose::SuspectReport& r) {
   return s;
 }
 
+/// Power checks (the hidden effect ranked first and held-out significant). Over 3–4 seed shifts
+/// (scripts/seed-study.sh): first in every shift; held-out z of harmonic forcing 5.7 ± sd 2.1,
+/// electromechanical 4.6 ± 0.8, coloured 6.3 ± 1.8, impact stops 2.0, 4.7, 6.3, 10.5 — the stops
+/// fell below the threshold 3 once in 4 (KNOWN WEAKNESS: with z ≈ 5 ± 2 the significance check
+/// fails for a few % to 20 % of seeds, far above 1e-4).
 void check_first(const diagnose::SuspectReport& r, const std::string& effect) {
   INFO(describe(r));
+  if (!r.ranked.empty()) {
+    tally(effect + " first", r.ranked[0].effect == effect);
+    tally(effect + " z", r.ranked[0].z);
+    if (r.ranked.size() > 1) tally(effect + " evidence lead", r.ranked[0].evidence - r.ranked[1].evidence);
+  }
   REQUIRE_FALSE(r.ranked.empty());
   CHECK(r.ranked[0].effect == effect);
   CHECK(r.ranked[0].held_out_significant);
@@ -54,7 +64,7 @@ void check_first(const diagnose::SuspectReport& r, const std::string& effect) {
 
 TEST_CASE("suspects: hidden harmonic forcing is ranked first and significant",
           "[diagnose][suspects][dynamic]") {
-  std::mt19937_64 g(71);
+  std::mt19937_64 g(seed(71));
   Model truth = hidden_effect_potential("bistable");
   Effect e;
   e.id = EffectId::HarmonicForcing;
@@ -63,25 +73,16 @@ TEST_CASE("suspects: hidden harmonic forcing is ranked first and significant",
   const Dataset d = simulate_hidden(truth, 1000 + g() % 1000, 8, 40000);
   const auto r = suspects_of(baseline_fit(d), d);
   check_first(r, "harmonic_forcing");
+  tally("omega", r.ranked[0].params.at("omega") / e.param("omega") - 1.0);
+  // omega over 4 seed shifts: relative error sd 0.09 % (1 % is 11 sd)
   CHECK(r.ranked[0].params.at("omega") == Approx(e.param("omega")).epsilon(0.01));
 }
 
 TEST_CASE("suspects: hidden impact stops are ranked first and significant",
           "[diagnose][suspects][dynamic]") {
-  std::mt19937_64 g(72);
+  std::mt19937_64 g(seed(72));
   Model truth = hidden_effect_potential("monostable");
-  // gaps at a random upper quantile of |x| of the same system without stops
-  const Dataset free_run = simulate_hidden(truth, 5, 2, 20000);
-  std::vector<double> pos, neg;
-  for (double v : free_run.x) (v > 0 ? pos : neg).push_back(std::abs(v));
-  std::sort(pos.begin(), pos.end());
-  std::sort(neg.begin(), neg.end());
-  const double q = uniform(g, 0.90, 0.96);
-  Effect e;
-  e.id = EffectId::ImpactStop;
-  e.params = {{"k_stop", uniform(g, 20.0, 80.0)},
-              {"gap", pos[static_cast<std::size_t>(q * static_cast<double>(pos.size()))]},
-              {"gap_neg", neg[static_cast<std::size_t>(q * static_cast<double>(neg.size()))]}};
+  const Effect e = draw_impact_stop(truth, g);  // gaps at a random upper quantile of |x| without stops
   truth.effects = {e};
   const Dataset d = simulate_hidden(truth, 2000 + g() % 1000, 8, 40000);
   const auto r = suspects_of(baseline_fit(d), d);
@@ -90,7 +91,7 @@ TEST_CASE("suspects: hidden impact stops are ranked first and significant",
 
 TEST_CASE("suspects: a hidden electromechanical state is ranked first and significant",
           "[diagnose][suspects][dynamic]") {
-  std::mt19937_64 g(73);
+  std::mt19937_64 g(seed(73));
   Model truth = hidden_effect_potential("bistable");
   Effect e;
   e.id = EffectId::ElectromechanicalCoupling;
@@ -109,16 +110,21 @@ TEST_CASE("suspects: control data without a hidden effect give no significant dy
   const Dataset d = simulate_hidden(truth, pot == "bistable" ? 4001 : 4002, 8, 40000);
   const auto r = suspects_of(baseline_fit(d), d);
   INFO(pot << ": " << describe(r));
+  // Null checks: 4 dynamic effects × 2 potentials, each a one-sided block z of ≥ 20 blocks (at
+  // worst Student t₁₉): at the default z > 3 a claim has 3.6e-3 per effect (2.9e-2 per run);
+  // here no z above t_bound(16, 19) (one-sided 8 tests at 1e-4 in all).
   for (const auto& sp : r.ranked)
     if (sp.effect == "impact_stop" || sp.effect == "harmonic_forcing" || sp.effect == "electromechanical_coupling" ||
-        sp.effect == "colored_noise")
-      CHECK_FALSE(sp.held_out_significant);
+        sp.effect == "colored_noise") {
+      vehs_test::tally(pot + " " + sp.effect + " z", sp.z);
+      CHECK_FALSE((sp.z > vehs_test::t_bound(16, 19.0) && sp.evidence > 0));
+    }
 }
 
 TEST_CASE("suspects: a hidden OU (coloured) excitation is ranked first and significant",
           "[diagnose][suspects][dynamic]") {
   const std::string pot = GENERATE(std::string("bistable"), std::string("monostable"));
-  std::mt19937_64 g(pot == "bistable" ? 74 : 75);
+  std::mt19937_64 g(seed(pot == "bistable" ? 74 : 75));
   Model truth = hidden_effect_potential(pot);
   Effect e;
   e.id = EffectId::ColoredNoise;
@@ -128,5 +134,8 @@ TEST_CASE("suspects: a hidden OU (coloured) excitation is ranked first and signi
   const auto r = suspects_of(baseline_fit(d), d);
   check_first(r, "colored_noise");
   INFO(describe(r));
+  tally(pot + " tau", r.ranked[0].params.at("tau") / e.param("tau") - 1.0);
+  // tau over 3 + 3 seed shifts: relative error +2 % ± sd 15 % (bistable), +11 % ± 15 %
+  // (monostable): 30 % is 1.3–2 sd — KNOWN WEAKNESS, false failure of order 5 % per seed
   CHECK(r.ranked[0].params.at("tau") == Approx(e.param("tau")).epsilon(0.3));
 }

@@ -1,4 +1,5 @@
-// Discretisation checks against exact stationary densities and exact moments.
+// Discretisation checks against exact stationary densities and exact moments. Deterministic (no
+// random numbers): every tolerance is a discretisation or convergence-order bound.
 #include <catch2/catch.hpp>
 
 #include <cmath>

@@ -1,4 +1,5 @@
 // Solvers, domains, wells, sweeps and the errors of models without a stationary density.
+// Deterministic (no random numbers): tolerances are discretisation and solver bounds.
 #include <catch2/catch.hpp>
 
 #include <cmath>

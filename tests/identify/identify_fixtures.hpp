@@ -4,6 +4,7 @@
 // with the truth in units of the reported standard errors.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -14,6 +15,7 @@
 #include "vehs/identify/identify.hpp"
 #include "vehs/io/model_file.hpp"
 #include "vehs/sim/simulate.hpp"
+#include "stat_bounds.hpp"
 
 namespace vehs_test {
 
@@ -25,6 +27,7 @@ inline vehs::Model paper_truth() {
 
 /// `records` records of `samples` samples at interval dt; substeps 1 with rk4_euler is the
 /// paper's own scheme (Eq. 30), substeps >= 20 emulates a sensor sampling a continuous process.
+/// (`seed` goes through vehs_test::seed: seed studies shift it.)
 inline vehs::Dataset simulate(const vehs::Model& m, double dt, int substeps, int records,
                               std::size_t samples, std::uint64_t seed, double sensor_noise = 0.0,
                               vehs::sim::Scheme scheme = vehs::sim::Scheme::Rk4Euler) {
@@ -33,7 +36,7 @@ inline vehs::Dataset simulate(const vehs::Model& m, double dt, int substeps, int
   o.substeps = substeps;
   o.records = records;
   o.samples = samples;
-  o.seed = seed;
+  o.seed = vehs_test::seed(seed);
   o.scheme = scheme;
   o.sensor_noise = sensor_noise;
   o.record_y = false;
@@ -45,6 +48,18 @@ inline std::set<std::string> names(const vehs::TermList& l) {
   for (const auto& tc : l) s.insert(tc.term.name());
   return s;
 }
+
+/// The |z| limit of k checks (estimate − truth)/SE of identify's estimates in one test case:
+/// z_bound(k) (stat_bounds.hpp: family-wise false failure p, default 1e-4) times the spread of z
+/// over seeds. identify's sandwich standard errors are calibrated but estimated: over 19 seed
+/// shifts of the identify suite (scripts/seed-study.sh 50 build/tests/test_identify
+/// "[identify]~[app]", stopped at 19 runs) the pooled sd of z over 83 coefficients and effect
+/// parameters is 1.065 (1789 values, largest |z| 4.19; the per-quantity estimates, 0.77–1.56 on
+/// 17 dof each, scatter as 83 such estimates of one common value do); the dedicated studies give
+/// 0.88–1.08 (Coulomb, 50 seeds) and 0.90–1.00 (impact stops, 200 seeds). The factor 1.15 covers
+/// the pooled value with its uncertainty: z_limit(8) = 1.15 × 4.37 = 5.0 (the former 3.0 failed
+/// with probability ≈ 2–3 % per test case of 8 terms at sd 1.065).
+inline double z_limit(int k, double p = kFalseFailure) { return 1.15 * z_bound(k, p); }
 
 /// Largest |learned − true| / stderr over the true terms (infinite when a term is missing).
 struct Deviation {
@@ -64,6 +79,7 @@ inline Deviation compare(const vehs::Model& learned, const vehs::Model& truth, b
       const double s = it == se.end() ? NAN : it->second;
       const double z = std::abs(v - tc.coef) / s;
       const double rel = std::abs(v - tc.coef) / std::abs(tc.coef);
+      tally(std::string(kind) + " " + n, (v - tc.coef) / s, (v - tc.coef) / std::abs(tc.coef));
       if (print)
         UNSCOPED_INFO(kind << " " << n << ": true " << tc.coef << ", learned " << v << " +- " << s
                            << " (z = " << (v - tc.coef) / s << ", " << 100 * rel << " %)");
@@ -74,6 +90,42 @@ inline Deviation compare(const vehs::Model& learned, const vehs::Model& truth, b
   one(truth.drift, learned.drift, learned.drift_stderr, "drift");
   one(truth.diffusion, learned.diffusion, learned.diffusion_stderr, "diffusion");
   return d;
+}
+
+/// Support of a sparse selection against the truth: every true term selected; at most
+/// `max_spurious` other terms in drift and diffusion together, each insignificant (|coef| ≤
+/// z_limit(candidates)·SE, `candidates` the number of library terms that are not true). BIC keeps
+/// a spurious term with probability ≈ P(χ²₁ > log n) each (1.4e-4 at n = 2·10⁶ rows, 3.6e-4 at
+/// 3.2·10⁵), so an exact support over the 8 + 3 spurious terms of the default libraries fails
+/// with ≈ 1.5e-3 per run, while two spurious terms at once have ≤ C(11, 2)·(1.4e-4)² = 1.1e-6; a
+/// kept spurious term sits just above the BIC line (|t| ≈ √(log n) ≈ 3.8), and |t| > z_limit is
+/// the z-check's own ≤ 1e-4. The true terms have |t| > 15 in every seed study here.
+inline void check_support(const vehs::Model& learned, const vehs::Model& truth, int candidates,
+                          int max_spurious = 1) {
+  int spurious = 0;
+  auto one = [&](const vehs::TermList& t, const vehs::TermList& l, const std::map<std::string, double>& se,
+                 const char* kind) {
+    const auto want = names(t);
+    for (const auto& n : want) {
+      INFO(kind << " term " << n);
+      CHECK(names(l).count(n) == 1);
+    }
+    int extra = 0;
+    for (const auto& tc : l) {
+      const std::string n = tc.term.name();
+      if (want.count(n)) continue;
+      ++extra;
+      const auto it = se.find(n);
+      const double z = it == se.end() ? INFINITY : std::abs(tc.coef) / it->second;
+      INFO("spurious " << kind << " term " << n << ": " << tc.coef << " (|t| = " << z << ")");
+      CHECK(z <= z_limit(std::max(candidates, 1)));
+    }
+    spurious += extra;
+    tally(std::string(kind) + " spurious terms", static_cast<double>(extra));
+  };
+  one(truth.drift, learned.drift, learned.drift_stderr, "drift");
+  one(truth.diffusion, learned.diffusion, learned.diffusion_stderr, "diffusion");
+  CHECK(spurious <= max_spurious);
 }
 
 inline double rel_error(const vehs::Model& learned, const vehs::Model& truth, bool diffusion,
@@ -100,11 +152,28 @@ inline vehs::Dataset simulate_hidden(const vehs::Model& m, std::uint64_t seed, i
   o.substeps = 10;
   o.records = records;
   o.samples = samples;
-  o.seed = seed;
+  o.seed = vehs_test::seed(seed);
   o.scheme = vehs::sim::Scheme::Taylor15;
   o.burn_in = burn_in;
   o.record_y = false;
   return vehs::sim::simulate(m, o);
+}
+
+/// Impact stops drawn as the tests draw them: both gaps at a random quantile q ∈ [0.90, 0.96] of
+/// |x| of the same system without stops (a free run of 2 × 20000 samples), k_stop ∈ [20, 80].
+inline vehs::Effect draw_impact_stop(const vehs::Model& base, std::mt19937_64& g) {
+  const vehs::Dataset free_run = simulate_hidden(base, 5, 2, 20000);
+  std::vector<double> pos, neg;
+  for (double v : free_run.x) (v > 0 ? pos : neg).push_back(std::abs(v));
+  std::sort(pos.begin(), pos.end());
+  std::sort(neg.begin(), neg.end());
+  const double q = std::uniform_real_distribution<double>(0.90, 0.96)(g);
+  vehs::Effect e;
+  e.id = vehs::EffectId::ImpactStop;
+  e.params = {{"k_stop", std::uniform_real_distribution<double>(20.0, 80.0)(g)},
+              {"gap", pos[static_cast<std::size_t>(q * static_cast<double>(pos.size()))]},
+              {"gap_neg", neg[static_cast<std::size_t>(q * static_cast<double>(neg.size()))]}};
+  return e;
 }
 
 /// identify on the hidden-effect potentials' own terms (x, x³, y; 1, x²), sparsity off, with
@@ -126,16 +195,24 @@ inline double uniform(std::mt19937_64& g, double a, double b) {
   return std::uniform_real_distribution<double>(a, b)(g);
 }
 
-/// Fitted effect parameter vs truth: |Δ| ≤ 3 SE and ≤ 15 %.
-inline void check_effect_param(const vehs::Effect& fitted, const std::string& name, double truth) {
+/// Fitted effect parameter vs truth, one of k z-checks of the test case: |Δ| ≤ z_limit(k)·SE,
+/// and the parameter resolved (SE ≤ `resolution` of the truth, default 15 %). The former
+/// "|Δ| ≤ 15 %" was a bias check that failed with probability 2Φ(−0.15|truth|/SE) — 1 % at an SE
+/// of 6 %, and most of the time for the draws whose SE exceeds 15 % (over seed shifts: colored_noise
+/// tau up to 35 %, electromechanical coupling up to 15 %); the bias itself is measured over seeds
+/// instead (mean relative error ± SE per parameter: test_bias_study.cpp, seed-study.sh).
+inline void check_effect_param(const vehs::Effect& fitted, const std::string& name, double truth, int k,
+                               double resolution = 0.15) {
   const double v = fitted.param(name);
   const double se = fitted.stderr_.at(name);
+  tally(fitted.name() + "." + name, (v - truth) / se, (v - truth) / std::abs(truth));
+  tally(fitted.name() + "." + name + " SE/|truth|", se / std::abs(truth));
   INFO(fitted.name() << "." << name << ": true " << truth << ", fitted " << v << " +- " << se
                      << " (z = " << (v - truth) / se << ")");
   CHECK(std::isfinite(se));
   CHECK(se > 0.0);
-  CHECK(std::abs(v - truth) <= 3.0 * se);
-  CHECK(std::abs(v - truth) <= 0.15 * std::abs(truth));
+  CHECK(std::abs(v - truth) <= z_limit(k) * se);
+  CHECK(se <= resolution * std::abs(truth));
 }
 
 }  // namespace vehs_test

@@ -3,6 +3,10 @@
 // (Eq. 30 at the recorded step) or as a sensor samples a continuous process (fine internal
 // steps), with and without white sensor noise. Instances are smaller than the paper's (10⁷
 // samples) to keep CI fast; bench/bench_identify_calibration.cpp runs the full-size figures.
+// False failures (COMMON.md, ≤ 1e-4 per test case): coefficients within z_limit(k) standard
+// errors (identify_fixtures.hpp), supports with at most one spurious term (check_support), and
+// every other statistical figure with its own bound below. Seed studies of all of them:
+// scripts/seed-study.sh 50 build/tests/test_identify "[identify]~[app]".
 #include <catch2/catch.hpp>
 
 #include "identify_fixtures.hpp"
@@ -24,12 +28,17 @@ TEST_CASE("issue 2: default settings on the paper's own scheme find the six drif
   const Dataset d = simulate(truth, 0.001, 1, 20, 100000, 2701);
   const identify::Result r = identify::identify(d, identify::Options{});
   INFO(r.report.drift_selection.selection.rule);
+  // ρ_k of white residuals over the pilot's 2.5·10⁵ rows: sd 1/√rows = 0.002, so 0.05 is 25 sd
+  // and the rule's threshold (≈ 0.125) 60 sd away: no false failure (< 1e-100)
+  tally("rho_k", r.model.fit->sampling.rho_k);
   CHECK(r.model.fit->estimator == identify::Estimator::Forward);  // scheme-consistent data detected
   CHECK(std::abs(r.model.fit->sampling.rho_k) < 0.05);
-  CHECK(names(r.model.drift) == kTrueDrift);
-  CHECK(names(r.model.diffusion) == kTrueDiffusion);
+  check_support(r.model, truth, 11);  // 14 + 5 library terms, 8 true
+  // 8 true coefficients: 8 z-checks (false failure ≤ 1e-4)
   const Deviation dev = compare(r.model, truth);
-  CHECK(dev.max_z <= 3.0);
+  CHECK(dev.max_z <= z_limit(8));
+  // bias checks: the diffusion's SE is 0.3 % here (0.2 % for 2D): 2 % is ≥ 6.5 SE, and the mean
+  // error over 50 seeds is ≤ 0.1 % (seed study): false failure < 1e-10
   CHECK(rel_error(r.model, truth, true, "1") <= 0.02);
   CHECK(rel_error(r.model, truth, true, "x^2") <= 0.02);
   // every reported coefficient has a standard error, and the path is in the model file
@@ -45,22 +54,32 @@ TEST_CASE("continuous-time records: correct support, coefficients within 3 stand
   const Model truth = paper_truth();
   const Dataset d = simulate(truth, dt, 20, 20, 100000, 31 + static_cast<std::uint64_t>(1e4 * dt));
   const identify::Result r = identify::identify(d, identify::Options{});
+  // ρ_k of MA(1) residuals (ρ = 1/4) over the pilot's 2.5·10⁵ rows: sd ≈ 0.002, the 0.03 margin
+  // is 15 sd once the O(h) shift is counted (mean over 50 seeds in the seed study: within 0.01
+  // of 1/4 at every dt); the rule's threshold 0.125 is 60 sd away: no false failure (< 1e-40)
+  tally("rho_k", r.model.fit->sampling.rho_k);
   CHECK(r.model.fit->estimator == identify::Estimator::Uli);
   CHECK(r.model.fit->sampling.rho_k == Approx(0.25).margin(0.03));
-  CHECK(names(r.model.drift) == kTrueDrift);
-  CHECK(names(r.model.diffusion) == kTrueDiffusion);
+  check_support(r.model, truth, 11);  // 14 + 5 library terms, 8 true
   const Deviation dev = compare(r.model, truth);
-  CHECK(dev.max_z <= 3.0);
-  // within 5 % wherever these data resolve 5 % (standard error below 5 %/3); the full-size
-  // figures (10⁷ samples) are in bench/bench_identify_calibration.cpp
+  CHECK(dev.max_z <= z_limit(8));
+  // Bias checks within 5 % wherever these data resolve 5 % at the z limit (SE below
+  // 5 %/z_limit(8)): then |error| > 5 % needs |z| > z_limit(8), which the check above bounds; the
+  // bias itself is measured over 50 seeds (seed study: every coefficient's mean error below 1 %
+  // and below 0.2 of its SE). The full-size figures (10⁷ samples) are in
+  // bench/bench_identify_calibration.cpp.
   for (const auto& tc : truth.drift) {
     const double se = r.model.drift_stderr.at(tc.term.name());
-    if (se < 0.05 / 3 * std::abs(tc.coef)) CHECK(rel_error(r.model, truth, false, tc.term.name()) <= 0.05);
+    if (se < 0.05 / z_limit(8) * std::abs(tc.coef)) CHECK(rel_error(r.model, truth, false, tc.term.name()) <= 0.05);
   }
+  // diffusion SE ≈ 0.3 %: 5 % is ≥ 15 SE (false failure < 1e-40 with the measured bias ≤ 0.2 %)
   CHECK(rel_error(r.model, truth, true, "1") <= 0.05);
   CHECK(rel_error(r.model, truth, true, "x^2") <= 0.05);
   // the residuals of a continuous process sampled at dt are MA(1) with lag-1 correlation 1/4
-  CHECK(r.report.residuals.autocorrelation_at(1) == Approx(0.25).margin(0.03));
+  // (2·10⁶ rows: sd 0.0006; margin as for ρ_k above)
+  const double lag1 = r.report.residuals.autocorrelation_at(1);
+  tally("lag1", lag1);
+  CHECK(lag1 == Approx(0.25).margin(0.03));
 }
 
 TEST_CASE("the paper's estimator shows its documented biases (why the default exists)", "[identify][paper]") {
@@ -73,9 +92,16 @@ TEST_CASE("the paper's estimator shows its documented biases (why the default ex
     const auto u = identify::identify(d, identify::Options{});
     const double beta_paper = -p.model.drift_coef("y"), beta_uli = -u.model.drift_coef("y");
     INFO("paper beta " << beta_paper << ", default beta " << beta_uli << " +- " << u.model.drift_stderr.at("y"));
-    CHECK(beta_paper < 0.8 * 0.1);
-    CHECK(beta_paper > 0.4 * 0.1);
-    CHECK(std::abs(beta_uli - 0.1) <= 3 * u.model.drift_stderr.at("y"));
+    tally("paper beta", beta_paper);
+    tally("default beta z", (beta_uli - 0.1) / u.model.drift_stderr.at("y"));
+    tally("paper 2D", p.model.diffusion_coef("1"));
+    // The paper's β over 9 seed shifts: 0.0684 ± sd 0.0041 (a third low, as documented). The band
+    // [0.045, 0.09] is ≥ 5.3 sd from that mean (≥ 4.1 sd if the sd is 30 % larger than measured:
+    // 4e-5); the former upper end 0.08 was 2.8 sd away (2.5e-3 per run). The paper's 2D:
+    // 0.01414 ± 0.00009, 20 sd below 0.016.
+    CHECK(beta_paper < 0.9 * 0.1);
+    CHECK(beta_paper > 0.45 * 0.1);
+    CHECK(std::abs(beta_uli - 0.1) <= z_limit(1) * u.model.drift_stderr.at("y"));
     CHECK(p.model.diffusion_coef("1") < 0.8 * 0.02);
   }
   SECTION("the paper's own scheme: raw Kramers-Moyal diffusion halves 2Q") {
@@ -83,6 +109,9 @@ TEST_CASE("the paper's estimator shows its documented biases (why the default ex
     const auto p = identify::identify(d, paper);
     const double q2 = p.model.diffusion_coef("x^2");
     INFO(model_to_json(p.model)["diffusion"].dump());
+    tally("paper 2Q", q2);
+    // the raw Kramers–Moyal 2Q over 9 seed shifts: 0.0046 ± sd 0.0007 (half the truth): 0.0075 is
+    // 4.3 sd away (1e-5)
     CHECK((q2 < 0.75 * 0.01 || names(p.model.diffusion) != kTrueDiffusion));
   }
 }
@@ -92,13 +121,22 @@ TEST_CASE("white sensor noise (sd 1e-3 at dt = 0.005): the noisy estimator keeps
   const Model truth = paper_truth();
   const Dataset d = simulate(truth, 0.005, 20, 20, 100000, 4242, 1e-3);
   const identify::Result r = identify::identify(d, identify::Options{});
+  tally("sensor noise sd", r.model.fit->sampling.sensor_noise_sd / 1e-3 - 1.0);
   CHECK(r.model.fit->estimator == identify::Estimator::Noisy);
   CHECK(r.model.fit->stride > 1);
+  // the noise sd from the lag-2k autocovariance: relative sd 0.6 % over 9 seed shifts, 10 % is 17 sd
   CHECK(r.model.fit->sampling.sensor_noise_sd == Approx(1e-3).epsilon(0.1));
   compare(r.model, truth);
+  // KNOWN WEAKNESS (issue 11 seed study, not resolved here): over 9 seed shifts this test failed
+  // in 2 — once the stride stayed 1 and the fit broke down (x^3 64 SE off, a diffusion term
+  // dropped), once β was 12 % off. The noisy estimator's robustness at this noise level
+  // (s = 1e-3 at Δt = 0.005, 2·10⁶ samples) needs its own work; its false-failure probability
+  // per run is of order 0.2, far above 1e-4. The checks are left as they were.
   CHECK(rel_error(r.model, truth, false, "y") <= 0.10);
   CHECK(rel_error(r.model, truth, true, "1") <= 0.10);
-  CHECK(names(r.model.drift) == kTrueDrift);
+  Model drift_only = truth;  // the drift's support (the diffusion's is not this test's subject)
+  drift_only.diffusion = r.model.diffusion;
+  check_support(r.model, drift_only, 8);
 }
 
 TEST_CASE("results do not depend on the number of threads", "[identify]") {
@@ -130,9 +168,14 @@ TEST_CASE("Coulomb friction as an effect: kept in the dictionary, mu reported wi
   REQUIRE(r.report.effect_params.size() == 1);
   const double mu = r.report.effect_params[0].params.at("mu");
   const double se = r.report.effect_params[0].stderr_.at("mu");
-  CHECK(std::abs(mu - 0.05) <= 3 * se);
+  tally("mu", (mu - 0.05) / se, mu / 0.05 - 1);
+  // 9 z-checks (mu and the 8 terms; mu is −coef of sign(y), so one family of 9 coefficients);
+  // SE(mu) ≈ 0.0027: 0.02 is 7× it. The diffusion's bias with sign(y) in the drift (issue 11):
+  // none beyond the generic +0.1 % (0.7 SE) of the friction-free control, and mu's −5.5 % bias
+  // (−1.1 SE) from sign(v̂) is removed by the smoothed sign (tests/identify/test_bias_study.cpp).
+  CHECK(std::abs(mu - 0.05) <= z_limit(9) * se);
   CHECK(se < 0.02);
-  CHECK(compare(r.model, truth).max_z <= 3.0);
+  CHECK(compare(r.model, truth).max_z <= z_limit(9));
 }
 
 TEST_CASE("a recorded drive u is identified as a term", "[identify][drive]") {
@@ -144,7 +187,7 @@ TEST_CASE("a recorded drive u is identified as a term", "[identify][drive]") {
   so.substeps = 20;
   so.records = 10;
   so.samples = 100000;
-  so.seed = 11;
+  so.seed = seed(11);
   so.record_y = false;
   for (std::size_t i = 0; i < so.samples; ++i) so.drive.push_back(0.3 * std::cos(0.7 * 0.01 * static_cast<double>(i)));
   const Dataset d = sim::simulate(truth, so);
@@ -152,8 +195,9 @@ TEST_CASE("a recorded drive u is identified as a term", "[identify][drive]") {
   identify::Options o;
   o.drift_library.push_back(Term::drive());
   const auto r = identify::identify(d, o);
+  // u's coefficient 0.5 with SE ≈ 0.01: dropping it needs a 50-SE error
   CHECK(names(r.model.drift).count("u") == 1);
-  CHECK(compare(r.model, truth).max_z <= 3.0);
+  CHECK(compare(r.model, truth).max_z <= z_limit(9));  // 9 true terms
 }
 
 TEST_CASE("unusable records are rejected with the record and row named", "[identify][errors]") {
@@ -250,8 +294,19 @@ TEST_CASE("the O(h^2) central-difference correction removes the stride bias of U
   const auto with = identify::identify(d, o);
   o.discretization_correction = false;
   const auto without = identify::identify(d, o);
-  CHECK(names(with.model.drift) == kTrueDrift);
-  CHECK(compare(with.model, truth).max_z <= 3.0);
+  // The drift: support and 6 z-checks. The diffusion is not this test's subject: at h = 0.07 its
+  // O(h) bias (identify.hpp) is measured over 8 seed shifts at x^2 −2.7 % ± 0.8 % (−1.6 SE) and
+  // 1 +0.7 % ± 0.3 %, so a z-check of it would fail often (the former max_z ≤ 3 over all 8 terms
+  // failed in 1 of 8 seed shifts).
+  Model drift_only = truth;
+  drift_only.diffusion = with.model.diffusion;
+  check_support(with.model, drift_only, 8);
+  CHECK(compare(with.model, drift_only).max_z <= z_limit(6));
+  tally("x^9 error without / with", rel_error(without.model, truth, false, "x^9") / rel_error(with.model, truth, false, "x^9"));
+  tally("x^5 error with", rel_error(with.model, truth, false, "x^5"));
+  // the uncorrected stiffness is ~5 % off (4–7 SE) at this stride and the corrected one within
+  // 1–2 SE: measured on this seed only — the false-failure probability of these two checks is
+  // not established (tallied for scripts/seed-study.sh)
   CHECK(rel_error(without.model, truth, false, "x^9") > 2 * rel_error(with.model, truth, false, "x^9"));
   CHECK(rel_error(with.model, truth, false, "x^5") < 0.02);
 }

@@ -3,10 +3,12 @@
 // coefficients the code under test never sees.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <random>
 
 #include "vehs/core/error.hpp"
 #include "vehs/identify/regression.hpp"
+#include "stat_bounds.hpp"
 
 using namespace vehs::identify;
 using Eigen::MatrixXd;
@@ -18,7 +20,7 @@ namespace {
 std::vector<QuadraticStats> regression_problem(const VectorXd& beta, double sigma, int n, int folds,
                                                unsigned seed, double collinear = 0.0) {
   const int K = static_cast<int>(beta.size());
-  std::mt19937_64 gen(seed);
+  std::mt19937_64 gen(vehs_test::seed(seed));
   std::normal_distribution<double> N01;
   std::vector<QuadraticStats> out(static_cast<std::size_t>(folds), QuadraticStats(K));
   for (int i = 0; i < n; ++i) {
@@ -63,11 +65,16 @@ TEST_CASE("column scaling does not change the SSR path with the t-ratio rule", "
   VectorXd beta(5);
   beta << 1.0, 0.0, -0.5, 0.0, 0.8;
   auto folds = regression_problem(beta, 1.0, 5000, 5, 2);
+  // Column 4 (a true term, coefficient 0.8) in other units (×10⁷): its coefficient becomes 8e-8.
+  // The zero terms' estimates are N(0, 0.014²) (n = 5000), so under the |coef| rule the rescaled
+  // term goes first unless a zero term lands within 8e-8: probability 2·2·φ(0)·8e-8/0.014 = 9e-6
+  // (with ×1000 it was 9 %: 11 failures in 100 seed shifts). The t-ratio path is certain: the
+  // true terms have t > 35, the zero ones |t| ~ |N(0, 1)|.
   auto scaled = folds;
-  for (auto& s : scaled) {  // column 4 (a true term) in other units (×1000)
-    s.G.row(4) *= 1000.0;
-    s.G.col(4) *= 1000.0;
-    s.b[4] *= 1000.0;
+  for (auto& s : scaled) {
+    s.G.row(4) *= 1e7;
+    s.G.col(4) *= 1e7;
+    s.b[4] *= 1e7;
   }
   const std::vector<bool> keep(5, false);
   const auto a = ssr_path(total(folds), {0, 1, 2, 3, 4}, keep, SsrRule::TRatio);
@@ -94,11 +101,18 @@ TEST_CASE("SSR with BIC and with one-SE cross-validation select the true support
     const std::vector<int> truth{1, 3, 6};
     bic_hits += bic.path[static_cast<std::size_t>(bic.chosen)].support == truth;
     cv_hits += cv.path[static_cast<std::size_t>(cv.chosen)].support == truth;
+    vehs_test::tally("BIC exact", bic.path[static_cast<std::size_t>(bic.chosen)].support == truth);
+    vehs_test::tally("CV one-SE exact", cv.path[static_cast<std::size_t>(cv.chosen)].support == truth);
     CHECK(bic.cv_loss.size() == bic.path.size());
     CHECK(bic.cv_diff[static_cast<std::size_t>(bic.min_step)] == Approx(0.0));
   }
   INFO("BIC exact in " << bic_hits << "/" << trials << ", CV one-SE in " << cv_hits << "/" << trials);
-  CHECK(bic_hits >= 18);  // BIC's false-inclusion rate per term here is about P(χ²₁ > log n) ≈ 0.2 %
+  // BIC keeps each of the 5 zero terms with probability ≈ P(χ²₁ > log n) = 0.17 % (n = 20000):
+  // a trial misses with q ≈ 0.85 % (measured over 100 seed shifts × 20 trials: 0.99 exact). With
+  // q = 1 %, P(Bin(20, 0.99) < 17) = 4.3e-5 (the former 18: 1.0e-3). CV with the one-SE rule:
+  // exact in 94 % of the same 2000 trials; P(Bin(20, 0.90) < 10) = 7e-7 even at a 90 % rate.
+  CHECK(bic_hits >= vehs_test::binomial_floor(trials, 0.99, 5e-5));
+  CHECK(vehs_test::binomial_floor(trials, 0.99, 5e-5) == 17);
   CHECK(cv_hits >= 10);
 }
 
@@ -114,7 +128,9 @@ TEST_CASE("kept terms survive SSR and STLSQ", "[identify][regression]") {
   CHECK(st.back().support == std::vector<int>{0, 2, 3});
   const auto sel = select_sparse(folds, {0, 1, 2, 3}, keep, {Sparsity::Ssr, SsrRule::TRatio, Criterion::Bic, 0.0});
   const auto& chosen = sel.path[static_cast<std::size_t>(sel.chosen)].support;
-  CHECK(chosen == std::vector<int>{0, 2, 3});
+  // the kept (zero) term 2 and the true terms 0 and 3 (t > 100) are chosen; the zero term 1 is
+  // BIC's to judge (kept with P(χ²₁ > log 4000) = 0.4 %: an exact {0, 2, 3} would fail that often)
+  for (int t : {0, 2, 3}) CHECK(std::count(chosen.begin(), chosen.end(), t) == 1);
 }
 
 TEST_CASE("an ill-conditioned dictionary is reported with the collinear terms", "[identify][regression]") {

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "vehs/core/terms.hpp"
+#include "vehs/identify/smoothed_sign.hpp"
 
 namespace vehs::identify {
 
@@ -65,6 +66,7 @@ class Dictionary {
     for (int i : indices) t.push_back(terms_[static_cast<std::size_t>(i)]);
     Dictionary d(std::move(t));
     d.sign_h_ = sign_h_;
+    d.smooth_ = smooth_;
     return d;
   }
 
@@ -80,6 +82,17 @@ class Dictionary {
   /// derivative is taken as 1{|v| < h}/h. Set from the spread of the velocity estimates.
   void set_sign_kernel_halfwidth(double h) { sign_h_ = h; }
   double sign_kernel_halfwidth() const { return sign_h_; }
+  /// Central kinematics at h = kΔt: the sign(y) column becomes the smoothed sign S(v̂) of
+  /// smoothed_sign.hpp (what the tent-averaged acceleration sees of friction), with a22 from
+  /// `a22` (a pilot diffusion fit, floored at `floor`) and v̂ noise variance `noise_var`; its
+  /// v-derivatives are S' and S'' (no box kernel).
+  void set_sign_smoothing(double h, TermList a22, double floor, double noise_var) {
+    smooth_.on = true;
+    smooth_.h = h;
+    smooth_.a22 = std::move(a22);
+    smooth_.floor = floor;
+    smooth_.d = 2.0 * noise_var;
+  }
 
   /// Scratch doubles the block methods need.
   std::size_t scratch_size() const {
@@ -122,7 +135,10 @@ class Dictionary {
           break;
         }
         case TermKind::SignY:
-          for (int i = 0; i < m; ++i) o[i] = static_cast<double>((b.v[i] > 0) - (b.v[i] < 0));
+          if (smooth_.on)
+            for (int i = 0; i < m; ++i) o[i] = smooth_.at(b.x[i], b.v[i]).value;
+          else
+            for (int i = 0; i < m; ++i) o[i] = static_cast<double>((b.v[i] > 0) - (b.v[i] < 0));
           break;
         case TermKind::YAbsY:
           for (int i = 0; i < m; ++i) o[i] = b.v[i] * std::abs(b.v[i]);
@@ -153,6 +169,10 @@ class Dictionary {
           break;
         }
         case TermKind::SignY: {
+          if (smooth_.on) {
+            for (int i = 0; i < m; ++i) o[i] = smooth_.at(b.x[i], b.v[i]).d1;
+            break;
+          }
           const double h = sign_h_, inv = 1.0 / sign_h_;
           for (int i = 0; i < m; ++i) o[i] = std::abs(b.v[i]) < h ? inv : 0.0;
           break;
@@ -167,7 +187,23 @@ class Dictionary {
     }
   }
 
-  /// ∂²/∂v² of the velocity terms (0 for sign(v)): out[j·ld + i].
+  /// The friction's response term of the Itô correction (smoothed_sign.hpp): per velocity term j,
+  /// ½a22·S'(v)·q₀√(h/a22) for a smoothed sign(y), else 0: out[j·ld + i].
+  void sign_ito_response(const RowBlock& b, double* out, std::ptrdiff_t ld) const {
+    for (std::size_t j = 0; j < velocity_terms_.size(); ++j) {
+      const Term& t = terms_[static_cast<std::size_t>(velocity_terms_[j])];
+      double* o = out + static_cast<std::ptrdiff_t>(j) * ld;
+      for (int i = 0; i < b.m; ++i) o[i] = 0.0;
+      if (t.kind != TermKind::SignY || !smooth_.on) continue;
+      for (int i = 0; i < b.m; ++i) {
+        const double a22 = std::max(evaluate(smooth_.a22, b.x[i], b.v[i]), smooth_.floor);
+        o[i] = 0.5 * kSignResponse * std::sqrt(a22 * smooth_.h) * smooth_.at(b.x[i], b.v[i]).d1;
+      }
+    }
+  }
+  bool sign_smoothing() const { return smooth_.on; }
+
+  /// ∂²/∂v² of the velocity terms (0 for an unsmoothed sign(v)): out[j·ld + i].
   void d2_dv2(const RowBlock& b, double* out, std::ptrdiff_t ld, double* scratch) const {
     const int m = b.m;
     double* xp = scratch;
@@ -184,6 +220,8 @@ class Dictionary {
         for (int i = 0; i < m; ++i) o[i] = c * px[i] * py[i];
       } else if (t.kind == TermKind::YAbsY) {
         for (int i = 0; i < m; ++i) o[i] = 2.0 * static_cast<double>((b.v[i] > 0) - (b.v[i] < 0));
+      } else if (t.kind == TermKind::SignY && smooth_.on) {
+        for (int i = 0; i < m; ++i) o[i] = smooth_.at(b.x[i], b.v[i]).d2;
       } else {
         for (int i = 0; i < m; ++i) o[i] = 0.0;
       }
@@ -227,6 +265,14 @@ class Dictionary {
   int max_px_ = 0, max_py_ = 0;
   bool uses_u_ = false;
   double sign_h_ = 1e-3;
+  struct SignSmoothing {
+    bool on = false;
+    double h = 0.0, floor = 0.0, d = 0.0;
+    TermList a22;
+    SmoothedSign at(double x, double v) const {
+      return smoothed_sign(v, std::max(evaluate(a22, x, v), floor) * h, d);
+    }
+  } smooth_;
 };
 
 }  // namespace vehs::identify
