@@ -1,10 +1,17 @@
 #!/usr/bin/env bash
-# Results must not depend on the SIMD width beyond rounding (issue 11). Builds simulate-vehs and
-# identify-vehs three ways, each in its own folder under $VEHS_SIMD_DIR (default ./build-simd):
+# Results must not depend on the SIMD width beyond rounding (issue 11). Two checks:
+#
+# 1. The run-time levels of the simulator's kernels (vehs/sim/simd.hpp): the portable build's
+#    simulate-vehs run with VEHS_SIMD=scalar, sse2, avx2 and avx512 (those this CPU has) on the
+#    same configs gives bitwise identical records and statistics (one source for the lane
+#    arithmetic, -ffp-contract=off in every level: the design promises bitwise equality).
+#
+# 2. Three builds of simulate-vehs and identify-vehs, each in its own folder under
+#    $VEHS_SIMD_DIR (default ./build-simd):
 #   scalar    no vector code the compiler chooses: EIGEN_DONT_VECTORIZE, -fno-tree-vectorize,
-#             -fno-tree-slp-vectorize (the x86-64 baseline; the hand-written v4d kernels keep
-#             their fixed 4-lane order, whose lanes are exactly rounded like scalar code)
-#   portable  the default build (SSE2); VEHS_SIMD_PORTABLE=<folder> reuses an existing one
+#             -fno-tree-slp-vectorize (the x86-64 baseline; the dispatched kernels as always)
+#   portable  the default build (SSE2 outside the kernels); VEHS_SIMD_PORTABLE=<folder> reuses
+#             an existing one
 #   native    -march=native: the widest vector unit of this machine (AVX-512 here), with FMA
 # runs them on the same configs (the paper's scheme; every effect of the catalogue through the
 # general path; a continuous-time record set with Coulomb friction) and compares
@@ -12,13 +19,13 @@
 #   scalar vs portable: records and Monte Carlo statistics bitwise identical (lane-wise arithmetic
 #     of IEEE doubles is the same at any width, and no sum changes order); identify-vehs models on
 #     the same data within 1e-6 of a standard error (Eigen's reductions sum in another order).
-#   portable vs native: the native build contracts a·b + c into fused multiply-adds (GCC's default
-#     with FMA hardware) and its AVX2 Box–Muller path uses FMA explicitly, so the normals and every
-#     step differ in the last bit: records are not bitwise equal. They start equal (same initial
-#     conditions) and separate at a rate set by the dynamics: a multistable record hops between
-#     wells at other times once the rounding has grown. The report says when. Statistics agree
-#     within 4.9·√2 standard errors (the bound of simd_compare.py), identify-vehs models on the
-#     same data within 1e-6 SE.
+#   portable vs native: the native build contracts a·b + c into fused multiply-adds outside the
+#     kernels (GCC's default with FMA hardware: the general path's steps, initial conditions), so
+#     records are not bitwise equal there (the fast path's kernels and the normals are: they are
+#     compiled with -ffp-contract=off in every build). They start equal and separate at a rate set
+#     by the dynamics: a multistable record hops between wells at other times once the rounding
+#     has grown. The report says when. Statistics agree within 4.9·√2 standard errors (the bound
+#     of simd_compare.py), identify-vehs models on the same data within 1e-6 SE.
 # Usage: scripts/simd-paths.sh            (CI: .ci/run; about 3 builds of two executables)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -85,6 +92,23 @@ done
 
 status=0
 compare() { python3 "$root/scripts/simd_compare.py" "$@" || status=1; }
+
+levels=(scalar sse2)
+case " $flags " in *" avx2 "*) levels+=(avx2) ;; esac
+case " $flags " in *" avx512f "*) case " $flags " in *" fma "*) levels+=(avx512) ;; esac ;; esac
+for v in "${levels[@]}"; do
+  for c in paper effects friction; do
+    VEHS_SIMD="$v" "$portable/simulate-vehs" -q "$c.json" --set "output=\"${c}_level_$v.npy\"" \
+      --set "statistics={\"output\": \"${c}_stats_level_$v.json\"}"
+  done
+done
+for c in paper effects friction; do
+  for v in "${levels[@]:1}"; do
+    echo "== $c: VEHS_SIMD=scalar vs VEHS_SIMD=$v (portable build)"
+    compare records "${c}_level_scalar.npy" "${c}_level_$v.npy" --bitwise
+    compare statistics "${c}_stats_level_scalar.json" "${c}_stats_level_$v.json" --bitwise
+  done
+done
 for c in paper effects friction; do
   echo "== $c: scalar vs portable"
   compare records "${c}_scalar.npy" "${c}_portable.npy" --bitwise

@@ -7,6 +7,9 @@
 #endif
 // The simulation engine (private to vehs_sim): batches of kLanes records integrated in lockstep
 // (SIMD lanes), normals generated a block of steps at a time, batches spread over OpenMP threads.
+// The fast path (the paper's polynomial family) is stepped by the SIMD kernels of the level in
+// use (src/sim/simd/, vehs/sim/simd.hpp); the engine stores and accumulates what they return.
+// The general path (ModelSystem: any term, every effect) is stepped here, with Eigen's lanes.
 // The translation units run_<scheme>_fast.cpp and run_<scheme>_general.cpp instantiate
 // run_fast<Stepper> and run_general<Stepper> (eight units compile in parallel).
 #include <algorithm>
@@ -18,6 +21,7 @@
 #include <limits>
 #include <mutex>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -32,12 +36,11 @@
 #include "vehs/sim/simulate.hpp"
 #include "vehs/sim/detail/model_system.hpp"
 #include "vehs/sim/steppers.hpp"
+#include "simd/kernel_table.hpp"
 
 #if defined(__GNUC__)
-#define VEHS_SIM_FLATTEN __attribute__((flatten))
 #define VEHS_SIM_NOINLINE __attribute__((noinline))
 #else
-#define VEHS_SIM_FLATTEN
 #define VEHS_SIM_NOINLINE
 #endif
 
@@ -120,6 +123,22 @@ struct NormalBlocks {
   }
 };
 
+/// The fast path's system as the engine sees it (the state's layout): the SIMD kernels step
+/// PolynomialSystem (src/sim/simd/fast_kernel.hpp).
+struct KernelSystem {
+  static constexpr int lanes = kLanes;
+  static constexpr int dim = 2;
+  static constexpr int noises = 1;
+  static constexpr int electro_index = 2;
+  static constexpr int colored_index = 2;
+  static constexpr bool has_electro = false;
+  static constexpr bool has_colored = false;
+  using Lanes = Eigen::Array<double, kLanes, 1>;
+  using State = Eigen::Array<double, kLanes, 2>;
+  explicit KernelSystem(const CompiledModel&) {}
+};
+static_assert(kLanes == FastBatch::kLanes, "the kernels run batches of kLanes records");
+
 /// One batch of `active` records (padded to L lanes by copies of lane 0, which are integrated
 /// but never written) integrated in lockstep from their initial state to the last sample.
 template <class Stepper, class System>
@@ -143,6 +162,7 @@ class BatchRunner {
       if constexpr (System::has_colored) state_(l, System::colored_index) = ctx.eta0[r];
     }
     normals_.rng = &ctx.rng;
+    if constexpr (kKernel) init_kernel();
     if (ctx.data)
       for (int l = 0; l < active; ++l) {
         const std::size_t off = rec_[static_cast<std::size_t>(l)] * ctx.samples;
@@ -159,7 +179,7 @@ class BatchRunner {
     for (long long k = 0; k < ctx_.burn_intervals; k += 1024) {
       const long long n = std::min<long long>(1024, ctx_.burn_intervals - k);
       burn(k - ctx_.burn_intervals, n);
-      if (ctx_.cancel.load(std::memory_order_relaxed)) return;
+      if (ctx_.cancel.load(std::memory_order_relaxed) || !healthy(state_)) break;
     }
     if (!healthy(state_)) return fail(0.0);
     record(state_, 0);
@@ -178,29 +198,65 @@ class BatchRunner {
   VEHS_SIM_INLINE bool healthy(const State& s) const { return (s.abs() <= bound()).all(); }
   std::size_t batch_end(std::size_t b) const { return (b + 1) * n_used_ / ctx_.batches; }
 
-  // The fast systems get the hot loops flattened (everything inlined, state in registers); the
-  // general ModelSystem keeps ordinary inlining, which compiles several times faster.
+  static constexpr bool kKernel = std::is_same_v<System, KernelSystem>;
+  static constexpr std::size_t kKernelChunk = 128;  ///< intervals per kernel call
+
   void burn(long long k0, long long n) {
-    if constexpr (System::fast_path)
-      burn_flat(k0, n);
+    if constexpr (kKernel)
+      burn_kernel(n);
     else
-      burn_plain(k0, n);
+      burn_impl(k0, n);
   }
   std::size_t samples(std::size_t i0, std::size_t i1) {
-    if constexpr (System::fast_path)
-      return samples_flat(i0, i1);
+    if constexpr (kKernel)
+      return samples_kernel(i0, i1);
     else
-      return samples_plain(i0, i1);
+      return samples_impl(i0, i1);
   }
-  VEHS_SIM_FLATTEN VEHS_SIM_NOINLINE void burn_flat(long long k0, long long n) { burn_impl(k0, n); }
-  VEHS_SIM_NOINLINE void burn_plain(long long k0, long long n) { burn_impl(k0, n); }
-  VEHS_SIM_FLATTEN VEHS_SIM_NOINLINE std::size_t samples_flat(std::size_t i0, std::size_t i1) {
-    return samples_impl(i0, i1);
+
+  // ---- the fast path: the kernel of the SIMD level in use advances fast_ -------------------
+  void init_kernel() {
+    for (int l = 0; l < L; ++l) {
+      fast_.x[l] = state_(l, 0);
+      fast_.y[l] = state_(l, 1);
+      fast_.records[l] = normals_.ids[static_cast<std::size_t>(l)];
+    }
+    fast_.key0 = ctx_.rng.key0();
+    fast_.key1 = ctx_.rng.key1();
+    run_.fast = &ctx_.model->fast;
+    run_.h = ctx_.h;
+    run_.substeps = ctx_.substeps;
+    run_.bound = bound();
+    advance_ = simd_kernels().advance[static_cast<int>(Stepper::scheme)];
   }
-  VEHS_SIM_NOINLINE std::size_t samples_plain(std::size_t i0, std::size_t i1) { return samples_impl(i0, i1); }
+  void sync_state() {
+    for (int l = 0; l < L; ++l) {
+      state_(l, 0) = fast_.x[l];
+      state_(l, 1) = fast_.y[l];
+    }
+  }
+  /// n unrecorded intervals (stops early at a state out of the bound: run() reports it).
+  VEHS_SIM_NOINLINE void burn_kernel(long long n) {
+    advance_(run_, fast_, static_cast<std::size_t>(n), nullptr);
+    sync_state();
+  }
+  /// As samples_impl, with the stepping done by the kernel kKernelChunk intervals at a time.
+  VEHS_SIM_NOINLINE std::size_t samples_kernel(std::size_t i0, std::size_t i1) {
+    for (std::size_t i = i0; i < i1;) {
+      const std::size_t n = std::min(kKernelChunk, i1 - i);
+      const std::size_t done = advance_(run_, fast_, n, out_);
+      for (std::size_t j = 0; j < done; ++j, ++i) record(Eigen::Map<const State>(out_ + 2 * L * j), i);
+      if (done < n) {
+        sync_state();
+        return i;
+      }
+    }
+    sync_state();
+    return i1;
+  }
 
   /// n unrecorded intervals starting at interval index k0 (time k0·dt).
-  VEHS_SIM_INLINE void burn_impl(long long k0, long long n) {
+  VEHS_SIM_NOINLINE void burn_impl(long long k0, long long n) {
     State s = state_;
     const double h = ctx_.h, dt = ctx_.dt;
     for (long long k = 0; k < n; ++k) {
@@ -212,7 +268,7 @@ class BatchRunner {
 
   /// Integrates the intervals ending at samples i0 … i1 − 1 and records them. Returns i1, or
   /// the first sample at which the state left the divergence bound.
-  VEHS_SIM_INLINE std::size_t samples_impl(std::size_t i0, std::size_t i1) {
+  VEHS_SIM_NOINLINE std::size_t samples_impl(std::size_t i0, std::size_t i1) {
     // everything the loop reads is copied into locals: the output stores (double*) would
     // otherwise force reloads of double members after every store
     State s = state_;
@@ -272,7 +328,7 @@ class BatchRunner {
     return i1;
   }
 
-  void record(const State& s, std::size_t i) {
+  VEHS_SIM_INLINE void record(const State& s, std::size_t i) {
     if (ctx_.data) {
       if (o_.sensor_noise > 0.0) {
         add_sensor_noise(s, i);
@@ -359,6 +415,10 @@ class BatchRunner {
   State state_;
   std::array<std::size_t, L> rec_{};
   NormalBlocks<L, M> normals_;
+  FastBatch fast_;                     // the fast path's batch, stream position and normals
+  FastRun run_;
+  FastAdvance advance_ = nullptr;
+  alignas(64) double out_[kKernelChunk * 2 * L];
   double* xs_[L] = {};
   double* ys_[L] = {};
   alignas(64) double sensor_[64 * L];
@@ -395,18 +455,10 @@ void run_all_with(RunContext& ctx) {
   }
 }
 
-/// The compile-time-shaped PolynomialSystem for the paper's polynomial family (K = 2 … 6 even
-/// and odd coefficients; a linear restoring force runs with K = 2).
+/// The paper's polynomial family: PolynomialSystem stepped by the SIMD kernels.
 template <class Stepper>
 void run_fast(RunContext& ctx) {
-  switch (ctx.model->fast.k) {
-    case 1:
-    case 2: return run_all_with<Stepper, PolynomialSystem<kLanes, 2>>(ctx);
-    case 3: return run_all_with<Stepper, PolynomialSystem<kLanes, 3>>(ctx);
-    case 4: return run_all_with<Stepper, PolynomialSystem<kLanes, 4>>(ctx);
-    case 5: return run_all_with<Stepper, PolynomialSystem<kLanes, 5>>(ctx);
-    default: return run_all_with<Stepper, PolynomialSystem<kLanes, 6>>(ctx);
-  }
+  run_all_with<Stepper, KernelSystem>(ctx);
 }
 
 /// ModelSystem with the hidden states the model's effects need.

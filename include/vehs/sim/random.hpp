@@ -17,18 +17,16 @@
 //   by an exact quarter-turn rotation chosen by the two top bits — vectorisable with selects.
 //   ln u₁ uses our own atanh-series logarithm (detail::log_unit, relative error < 1e-14),
 //   about twice as fast as Eigen's generic plog on AVX2 because it knows u₁ ∈ (0, 1].
-//   Each block gives two independent N(0, 1) values. The AVX2 path (4 lanes per register,
-//   used when compiled with -mavx2) and the portable path do the same arithmetic.
+//   Each block gives two independent N(0, 1) values. fill_normals computes them for 8 records at
+//   once with the vector kernel of the SIMD level in use (src/sim/simd/normals.hpp: the same
+//   operations in the same order, no fused multiply-add, so the same bits at every level).
 //   Moments, tails and a Kolmogorov–Smirnov test are in tests/sim/test_random.cpp.
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 
-#include <Eigen/Core>
-#ifdef __AVX2__
-#include <immintrin.h>
-#endif
+#include <cstddef>
 
 namespace vehs::sim {
 
@@ -175,153 +173,29 @@ inline void normal_pairs_portable(const CounterRng& rng, const std::uint32_t* re
     }
 }
 
-#ifdef __AVX2__
-/// log_unit on 4 lanes (same arithmetic).
-inline __m256d log_unit_avx2(__m256d u) {
-  const __m256i bits = _mm256_castpd_si256(u);
-  // exponent as a double: (bits >> 52) is in [0, 1023] here; OR-ing into 2^52 converts exactly
-  const __m256i magic = _mm256_set1_epi64x(0x4330000000000000ll);
-  __m256d e = _mm256_sub_pd(_mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64(bits, 52), magic)),
-                            _mm256_set1_pd(0x1p52 + 1023.0));
-  __m256d m = _mm256_castsi256_pd(
-      _mm256_or_si256(_mm256_and_si256(bits, _mm256_set1_epi64x(0xFFFFFFFFFFFFFll)),
-                      _mm256_set1_epi64x(0x3FFll << 52)));
-  const __m256d big = _mm256_cmp_pd(m, _mm256_set1_pd(1.4142135623730951), _CMP_GT_OQ);
-  m = _mm256_blendv_pd(m, _mm256_mul_pd(m, _mm256_set1_pd(0.5)), big);
-  e = _mm256_add_pd(e, _mm256_and_pd(big, _mm256_set1_pd(1.0)));
-  const __m256d one = _mm256_set1_pd(1.0);
-  const __m256d sv = _mm256_div_pd(_mm256_sub_pd(m, one), _mm256_add_pd(m, one));
-  const __m256d s2 = _mm256_mul_pd(sv, sv);
-  auto fma = [](__m256d a, __m256d b, double c) { return _mm256_fmadd_pd(a, b, _mm256_set1_pd(c)); };
-  __m256d q = fma(_mm256_set1_pd(2.0 / 17), s2, 2.0 / 15);
-  q = fma(q, s2, 2.0 / 13);
-  q = fma(q, s2, 2.0 / 11);
-  q = fma(q, s2, 2.0 / 9);
-  q = fma(q, s2, 2.0 / 7);
-  q = fma(q, s2, 2.0 / 5);
-  q = fma(q, s2, 2.0 / 3);
-  q = fma(q, s2, 2.0);
-  return _mm256_fmadd_pd(e, _mm256_set1_pd(0.6931471805599453), _mm256_mul_pd(sv, q));
-}
-
-/// Philox + Box–Muller for 4 lanes × G pair indices in AVX2 registers (64-bit lanes hold the
-/// 32-bit words, so that _mm256_mul_epu32 gives the full 64-bit products directly).
-template <int G>
-inline void normal_pairs_avx2(std::uint32_t key0, std::uint32_t key1, const __m256i records,
-                              std::uint32_t purpose, std::uint64_t pair, __m256d* cos_out,
-                              __m256d* sin_out) {
-  const __m256i m0 = _mm256_set1_epi64x(Philox4x32::kMul0), m1 = _mm256_set1_epi64x(Philox4x32::kMul1);
-  const __m256i lo32 = _mm256_set1_epi64x(0xFFFFFFFFll);
-  __m256i a0[G], a1[G], a2[G], a3[G];
-  for (int g = 0; g < G; ++g) {
-    const std::uint64_t index = pair + static_cast<std::uint64_t>(g);
-    a0[g] = _mm256_set1_epi64x(static_cast<long long>(index & 0xFFFFFFFFu));
-    a1[g] = _mm256_set1_epi64x(static_cast<long long>(index >> 32));
-    a2[g] = records;
-    a3[g] = _mm256_set1_epi64x(purpose);
-  }
-  std::uint32_t k0 = key0, k1 = key1;
-  for (int round = 0; round < 10; ++round) {
-    const __m256i K0 = _mm256_set1_epi64x(k0), K1 = _mm256_set1_epi64x(k1);
-    for (int g = 0; g < G; ++g) {
-      const __m256i p0 = _mm256_mul_epu32(a0[g], m0), p1 = _mm256_mul_epu32(a2[g], m1);
-      const __m256i n0 = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p1, 32), a1[g]), K0);
-      const __m256i n2 = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p0, 32), a3[g]), K1);
-      a1[g] = _mm256_and_si256(p1, lo32);
-      a3[g] = _mm256_and_si256(p0, lo32);
-      a0[g] = n0;
-      a2[g] = n2;
-    }
-    k0 += Philox4x32::kWeyl0;
-    k1 += Philox4x32::kWeyl1;
-  }
-  const __m256i exponent = _mm256_set1_epi64x(0x3FFll << 52);
-  const __m256i mantissa = _mm256_set1_epi64x(0xFFFFFFFFFFFFFll);
-  const __m256i sign = _mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull));
-  const __m256d one = _mm256_set1_pd(1.0), half_ulp = _mm256_set1_pd(0x1p-53);
-  for (int g = 0; g < G; ++g) {
-    // radius from words 0-1
-    const __m256i rb = _mm256_or_si256(_mm256_slli_epi64(a0[g], 20), _mm256_srli_epi64(a1[g], 12));
-    const __m256d u1 = _mm256_add_pd(
-        _mm256_sub_pd(_mm256_castsi256_pd(_mm256_or_si256(rb, exponent)), one), half_ulp);
-    const __m256d radius =
-        _mm256_sqrt_pd(_mm256_mul_pd(_mm256_set1_pd(-2.0), log_unit_avx2(u1)));
-    // angle from words 2-3
-    const __m256i ab = _mm256_or_si256(_mm256_slli_epi64(a2[g], 20), _mm256_srli_epi64(a3[g], 12));
-    const __m256d r = _mm256_castsi256_pd(
-        _mm256_or_si256(exponent, _mm256_and_si256(_mm256_slli_epi64(ab, 2), mantissa)));
-    const __m256d phi = _mm256_mul_pd(_mm256_sub_pd(r, _mm256_set1_pd(1.5)),
-                                      _mm256_set1_pd(1.5707963267948966));
-    const __m256d p2 = _mm256_mul_pd(phi, phi);
-    auto fma = [](__m256d a, __m256d b, double c) { return _mm256_fmadd_pd(a, b, _mm256_set1_pd(c)); };
-    __m256d sp = fma(p2, _mm256_set1_pd(1.0 / 6227020800.0), -1.0 / 39916800);
-    sp = fma(p2, sp, 1.0 / 362880);
-    sp = fma(p2, sp, -1.0 / 5040);
-    sp = fma(p2, sp, 1.0 / 120);
-    sp = fma(p2, sp, -1.0 / 6);
-    sp = fma(p2, sp, 1.0);
-    sp = _mm256_mul_pd(phi, sp);
-    __m256d cp = fma(p2, _mm256_set1_pd(-1.0 / 87178291200.0), 1.0 / 479001600.0);
-    cp = fma(p2, cp, -1.0 / 3628800);
-    cp = fma(p2, cp, 1.0 / 40320);
-    cp = fma(p2, cp, -1.0 / 720);
-    cp = fma(p2, cp, 1.0 / 24);
-    cp = fma(p2, cp, -0.5);
-    cp = fma(p2, cp, 1.0);
-    // quarter turns: bit 50 of ab (odd quadrant) -> sign bit selects; bit 51 negates
-    const __m256d odd = _mm256_castsi256_pd(_mm256_slli_epi64(ab, 13));
-    const __m256d neg = _mm256_castsi256_pd(_mm256_and_si256(_mm256_slli_epi64(ab, 12), sign));
-    const __m256d neg_sp = _mm256_xor_pd(sp, _mm256_castsi256_pd(sign));
-    const __m256d cq = _mm256_blendv_pd(cp, neg_sp, odd);
-    const __m256d sq = _mm256_blendv_pd(sp, cp, odd);
-    cos_out[g] = _mm256_mul_pd(radius, _mm256_xor_pd(cq, neg));
-    sin_out[g] = _mm256_mul_pd(radius, _mm256_xor_pd(sq, neg));
-  }
-}
-#endif
+/// The vectorised normals of 8 records (lane l <-> records[l]): normal n of lane l at
+/// out[n·stride + l]. Runs the kernel of the SIMD level in use (vehs/sim/simd.hpp); every level
+/// gives bitwise the numbers of CounterRng::normal_pair compiled without fused multiply-adds.
+void fill_normals8(const CounterRng& rng, const std::uint32_t* records, Purpose purpose,
+                   std::uint64_t first_pair, int pairs, double* out, std::size_t stride);
 
 }  // namespace detail
 
 /// Fills `out` with normals number [2·first_pair, 2·(first_pair + pairs)) of the `purpose`
 /// stream of L records at once (lane l ↔ records[l]); out[n·L + l] is normal n of lane l.
-/// The same numbers as CounterRng::normal (equal up to rounding of the last bits, as the
-/// vector code fuses operations differently) — only vectorised. Each lane is computed
+/// The same numbers as CounterRng::normal (bitwise, where the compiler does not fuse the scalar
+/// code's multiply-adds: a -march=native build may) — only vectorised. Each lane is computed
 /// independently of the others, so a record's numbers do not depend on its batch.
 template <int L>
 void fill_normals(const CounterRng& rng, const std::array<std::uint32_t, L>& records,
                   Purpose purpose, std::uint64_t first_pair, int pairs, double* out) {
-#ifdef __AVX2__
-  if constexpr (L % 4 == 0) {
-    constexpr int G = 2;
-    const std::size_t n_pairs = pairs > 0 ? static_cast<std::size_t>(pairs) : 0;
-    const auto row = [&](std::size_t normal_index, int q) {
-      return out + normal_index * static_cast<std::size_t>(L) + static_cast<std::size_t>(4 * q);
-    };
-    for (int q = 0; q < L / 4; ++q) {
-      const __m256i rec = _mm256_set_epi64x(records[4 * q + 3], records[4 * q + 2],
-                                            records[4 * q + 1], records[4 * q]);
-      std::size_t p = 0;
-      for (; p + G <= n_pairs; p += G) {
-        __m256d c[G], s[G];
-        detail::normal_pairs_avx2<G>(rng.key0(), rng.key1(), rec, static_cast<std::uint32_t>(purpose),
-                                     first_pair + p, c, s);
-        for (std::size_t g = 0; g < G; ++g) {
-          _mm256_storeu_pd(row(2 * (p + g), q), c[g]);
-          _mm256_storeu_pd(row(2 * (p + g) + 1, q), s[g]);
-        }
-      }
-      for (; p < n_pairs; ++p) {
-        __m256d c[1], s[1];
-        detail::normal_pairs_avx2<1>(rng.key0(), rng.key1(), rec, static_cast<std::uint32_t>(purpose),
-                                     first_pair + p, c, s);
-        _mm256_storeu_pd(row(2 * p, q), c[0]);
-        _mm256_storeu_pd(row(2 * p + 1, q), s[0]);
-      }
-    }
-    return;
+  if constexpr (L % 8 == 0) {
+    for (int q = 0; q < L / 8; ++q)
+      detail::fill_normals8(rng, records.data() + 8 * q, purpose, first_pair, pairs, out + 8 * q,
+                            static_cast<std::size_t>(L));
+  } else {
+    detail::normal_pairs_portable(rng, records.data(), L, purpose, first_pair, pairs, out);
   }
-#endif
-  detail::normal_pairs_portable(rng, records.data(), L, purpose, first_pair, pairs, out);
 }
 
 }  // namespace vehs::sim

@@ -310,11 +310,20 @@ class ModelSystem {
   std::array<LinearHidden, 2> hidden_{};
 };
 
+/// Eigen's arrays as the lanes of a system (the default of PolynomialSystem).
+template <int L>
+struct EigenLanes {
+  using Lanes = Eigen::Array<double, L, 1>;
+  using State = Eigen::Array<double, L, 2>;
+  using Noise = Eigen::Array<double, L, 1>;
+};
+
 /// The fast system for the polynomial family (CompiledModel::Fast): the same concept as
 /// ModelSystem, with every polynomial of compile-time length K (even and odd parts of P), 3
 /// (damping) and 5 (a22), so the lanes stay in registers and nothing is dispatched at run time.
-/// Measured ≈ 0.95 of a hand-written loop with hard-coded coefficients (bench/bench_simulate.cpp).
-template <int L, int K>
+/// `Types` gives the lane, state and noise types: Eigen's arrays, or the lane type of the
+/// simulator's per-instruction-set kernels (src/sim/simd/lanes.hpp), which run this system.
+template <int L, int K, class Types = EigenLanes<L>>
 class PolynomialSystem {
  public:
   static constexpr bool fast_path = true;
@@ -326,11 +335,12 @@ class PolynomialSystem {
   static constexpr bool has_electro = false;
   static constexpr bool has_colored = false;
   static constexpr int hidden = 0;
-  using Lanes = Eigen::Array<double, L, 1>;
-  using State = Eigen::Array<double, L, 2>;
-  using Noise = Eigen::Array<double, L, 1>;
+  using Lanes = typename Types::Lanes;
+  using State = typename Types::State;
+  using Noise = typename Types::Noise;
 
   explicit PolynomialSystem(const CompiledModel& m) : f_(m.fast) {}
+  explicit PolynomialSystem(const CompiledModel::Fast& f) : f_(f) {}
   void set_drive(const Lanes&) {}
   LinearHidden hidden_state(int) const { return {}; }
   static constexpr bool noise_depends_on_y() { return false; }
