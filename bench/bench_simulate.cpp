@@ -7,6 +7,8 @@
 //
 // Run (Release build):  build/bench/bench_simulate            (prints a summary table at the end)
 //                       build/bench/bench_simulate --benchmark_filter=Paper
+//                       VEHS_SIMD=avx2 build/bench/bench_simulate   (a given kernel level; every
+//                       level the CPU runs: bench/simulate_levels.sh)
 // Timings are wall-clock (UseRealTime) and noisy on a shared machine: the summary takes, for
 // each benchmark, the best of its repetitions.
 #include <benchmark/benchmark.h>
@@ -23,6 +25,7 @@
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/sim/random.hpp"
+#include "vehs/sim/simd.hpp"
 #include "vehs/sim/simulate.hpp"
 
 namespace {
@@ -245,6 +248,8 @@ int main(int argc, char** argv) {
   benchmark::RunSpecifiedBenchmarks(&reporter);
   auto rate = [&](const std::string& name) { return reporter.best(name) / 1e6; };
   auto per_core = [&](const std::string& name) { return reporter.best_cpu(name) / 1e6; };
+  std::printf("\nSIMD level of the simulator's kernels: %s (VEHS_SIMD to force one; the minimal loop is\n"
+              "compiled for the build's own flags)\n", vehs::sim::simd_level_name(vehs::sim::simd_level()));
   std::printf("\nSummary, best of repetitions, million trajectory-steps per second (rk4_euler, paper model,\n"
               "dt = 0.001, 1e5 samples per record, x and y stored). 'wall' = steps / elapsed time,\n"
               "'per core' = steps / process CPU time (meaningful when other jobs share the cores):\n");

@@ -12,6 +12,7 @@
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/sim/simd.hpp"
 
 namespace vehs::sim {
 
@@ -199,6 +200,7 @@ void prepare(detail::RunContext& ctx, const CompiledModel& cm, const SimulationO
 }
 
 void run(detail::RunContext& ctx, Scheme scheme) {
+  simd_level();  // reads VEHS_SIMD once; a bad value is an error of its own, not a failed record
   switch (scheme) {
     case Scheme::EulerMaruyama: detail::run_all<EulerMaruyamaStepper>(ctx); break;
     case Scheme::Rk4Euler: detail::run_all<Rk4EulerStepper>(ctx); break;
