@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The simulator's speed at every SIMD level of its kernels that this CPU runs (vehs/sim/simd.hpp:
 # the same bitwise results at each), written to bench/results/simulate_levels.txt: the paper's
-# Eq. 30 (rk4_euler, 100 records × 10⁵ samples, one thread) and the normals alone, as rates per
+# Eq. 30 (rk4_euler, 100 records × 10⁵ samples, one thread), as rates per
 # CPU second ('per core': meaningful when other jobs share the machine).
 # Usage: bench/simulate_levels.sh      (a Release build of bench_simulate in $VEHS_BUILD_DIR or ./build)
 set -euo pipefail
@@ -16,7 +16,7 @@ out="$root/bench/results/simulate_levels.txt"
   uptime
   for level in scalar sse2 avx2 avx512; do
     echo "== VEHS_SIMD=$level"
-    VEHS_SIMD=$level "$bench" --benchmark_filter='BM_Normals|BM_PaperSimulate/threads:1/records:100/scheme:1' \
+    VEHS_SIMD=$level "$bench" --benchmark_filter='BM_PaperSimulate/threads:1/records:100/scheme:1' \
       --benchmark_color=false 2>&1 | sed -n '/^All benchmarks/,$p' || echo "(this CPU cannot run it)"
   done
   uptime

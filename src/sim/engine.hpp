@@ -46,8 +46,8 @@
 
 namespace vehs::sim::detail {
 
-/// Records per SIMD batch (two AVX2 registers of doubles: enough independent work to hide the
-/// latency of the RK4 stage chain).
+/// Records per SIMD batch (the kernels' 8 lanes: one AVX-512 register, two AVX2 or four SSE2
+/// ones; results do not depend on the batching).
 inline constexpr int kLanes = 8;
 /// Moments accumulated for statistics, in this order.
 inline constexpr int kMoments = 7;

@@ -69,6 +69,52 @@ inline double uniform_from_words(std::uint32_t hi, std::uint32_t lo) {
   return (d - 1.0) + 0x1p-53;
 }
 
+// The arithmetic of the normals, written once for doubles and for the simulator's SIMD lanes
+// (src/sim/simd/normals.hpp instantiates these templates on its lane type): the same
+// operations in the same order, so every path gives the same bits.
+#if defined(__GNUC__)
+#define VEHS_RNG_INLINE inline __attribute__((always_inline))
+#else
+#define VEHS_RNG_INLINE inline
+#endif
+
+/// sin φ and cos φ on |φ| ≤ π/4 by their Taylor series (the first omitted terms are < 3e-14 and
+/// < 1e-15), Horner's rule in φ².
+template <class V>
+VEHS_RNG_INLINE void quarter_sin_cos(const V& phi, V& sp, V& cp) {
+  const V p2 = phi * phi;
+  V t = -1.0 / 39916800 + p2 * (1.0 / 6227020800.0);
+  t = 1.0 / 362880 + p2 * t;
+  t = -1.0 / 5040 + p2 * t;
+  t = 1.0 / 120 + p2 * t;
+  t = -1.0 / 6 + p2 * t;
+  sp = phi * (1.0 + p2 * t);
+  V c = 1.0 / 479001600.0 + p2 * (-1.0 / 87178291200.0);
+  c = -1.0 / 3628800 + p2 * c;
+  c = 1.0 / 40320 + p2 * c;
+  c = -1.0 / 720 + p2 * c;
+  c = 1.0 / 24 + p2 * c;
+  c = -0.5 + p2 * c;
+  cp = 1.0 + p2 * c;
+}
+
+/// e·ln 2 + ln m for m ∈ [√½, √2): ln m = 2·atanh(s), s = (m−1)/(m+1), |s| ≤ 0.1716, series to
+/// s^17 (truncation < 4e-16 absolute).
+template <class V>
+VEHS_RNG_INLINE V log_of_parts(const V& e, const V& m) {
+  const V sv = (m - 1.0) / (m + 1.0);
+  const V s2 = sv * sv;
+  V q = (2.0 / 17) * s2 + 2.0 / 15;
+  q = q * s2 + 2.0 / 13;
+  q = q * s2 + 2.0 / 11;
+  q = q * s2 + 2.0 / 9;
+  q = q * s2 + 2.0 / 7;
+  q = q * s2 + 2.0 / 5;
+  q = q * s2 + 2.0 / 3;
+  q = q * s2 + 2.0;
+  return e * 0.6931471805599453 + sv * q;
+}
+
 /// sin and cos of the angle 2π·a where `bits` holds a in its 52 low bits (a ∈ [0, 1)):
 /// the top 2 of the 52 bits pick the quarter turn, the other 50 the offset φ ∈ [−π/4, π/4).
 inline void unit_circle_point(std::uint64_t bits52, double& c, double& s) {
@@ -77,12 +123,8 @@ inline void unit_circle_point(std::uint64_t bits52, double& c, double& s) {
   double r;
   std::memcpy(&r, &rest, sizeof r);
   const double phi = (r - 1.5) * 1.5707963267948966;  // [−π/4, π/4)
-  const double p2 = phi * phi;
-  // Taylor series; the first omitted terms are < 3e-14 (sin) and < 1e-15 (cos) on |φ| ≤ π/4
-  const double sp = phi * (1.0 + p2 * (-1.0 / 6 + p2 * (1.0 / 120 + p2 * (-1.0 / 5040 + p2 * (1.0 / 362880 +
-                    p2 * (-1.0 / 39916800 + p2 * (1.0 / 6227020800.0)))))));
-  const double cp = 1.0 + p2 * (-0.5 + p2 * (1.0 / 24 + p2 * (-1.0 / 720 + p2 * (1.0 / 40320 +
-                    p2 * (-1.0 / 3628800 + p2 * (1.0 / 479001600.0 + p2 * (-1.0 / 87178291200.0)))))));
+  double sp, cp;
+  quarter_sin_cos(phi, sp, cp);
   // rotate by quadrant·π/2
   const bool odd = quadrant & 1u, neg = quadrant & 2u;
   const double cq = odd ? -sp : cp, sq = odd ? cp : sp;
@@ -90,10 +132,8 @@ inline void unit_circle_point(std::uint64_t bits52, double& c, double& s) {
   s = neg ? -sq : sq;
 }
 
-/// ln(u) for u in (0, 1] (the Box–Muller radius), written so that the AVX2 path below does
-/// exactly the same arithmetic: u = 2^e·m with m ∈ [√½, √2), ln m = 2·atanh(s), s = (m−1)/(m+1),
-/// |s| ≤ 0.1716, series to s^17 (truncation < 4e-16 absolute). Relative error vs std::log is
-/// tested to be < 1e-14 over (0, 1].
+/// ln(u) for u in (0, 1] (the Box–Muller radius): u = 2^e·m with m ∈ [√½, √2), then
+/// log_of_parts. Relative error vs std::log is tested to be < 1e-14 over (0, 1].
 inline double log_unit(double u) {
   std::uint64_t bits;
   std::memcpy(&bits, &u, sizeof bits);
@@ -105,18 +145,7 @@ inline double log_unit(double u) {
     m *= 0.5;
     e += 1.0;
   }
-  const double sv = (m - 1.0) / (m + 1.0);
-  const double s2 = sv * sv;
-  double q = 2.0 / 17;
-  q = q * s2 + 2.0 / 15;
-  q = q * s2 + 2.0 / 13;
-  q = q * s2 + 2.0 / 11;
-  q = q * s2 + 2.0 / 9;
-  q = q * s2 + 2.0 / 7;
-  q = q * s2 + 2.0 / 5;
-  q = q * s2 + 2.0 / 3;
-  q = q * s2 + 2.0;
-  return e * 0.6931471805599453 + sv * q;
+  return log_of_parts(e, m);
 }
 
 }  // namespace detail

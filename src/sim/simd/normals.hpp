@@ -1,7 +1,7 @@
 #pragma once
 // Philox-4x32-10 + Box–Muller on 8 lanes (8 records), for every instruction-set level from one
 // source: the same operations, in the same order, as the scalar CounterRng::normal_pair of
-// vehs/sim/random.hpp (uniform_from_words, log_unit, unit_circle_point), without fused
+// vehs/sim/random.hpp (whose series, log_of_parts and quarter_sin_cos, it shares), without fused
 // multiply-adds, so each lane's numbers are bitwise those of the scalar stream.
 #include <cstddef>
 #include <cstdint>
@@ -45,18 +45,7 @@ VEHS_LANE_INLINE F64 log_unit(const F64& u) {
   const I64 big = m > splat(1.4142135623730951);
   m = blend(big, m * 0.5, m);
   e = blend(big, e + 1.0, e);
-  const F64 sv = (m - 1.0) / (m + 1.0);
-  const F64 s2 = sv * sv;
-  F64 q = splat(2.0 / 17);
-  q = q * s2 + 2.0 / 15;
-  q = q * s2 + 2.0 / 13;
-  q = q * s2 + 2.0 / 11;
-  q = q * s2 + 2.0 / 9;
-  q = q * s2 + 2.0 / 7;
-  q = q * s2 + 2.0 / 5;
-  q = q * s2 + 2.0 / 3;
-  q = q * s2 + 2.0;
-  return e * 0.6931471805599453 + sv * q;
+  return detail::log_of_parts(e, m);
 }
 
 /// The two normals of one Philox block per lane (detail::unit_circle_point and the radius).
@@ -71,22 +60,8 @@ VEHS_LANE_INLINE void box_muller(const PhiloxWords& w, F64& cos_out, F64& sin_ou
   const U64 ab = (w.w2 << 20) | (w.w3 >> 12);
   const F64 r = double_of(exponent | ((ab << 2) & mantissa));
   const F64 phi = (r - 1.5) * 1.5707963267948966;
-  const F64 p2 = phi * phi;
-  F64 sp = splat(1.0 / 6227020800.0);
-  sp = -1.0 / 39916800 + p2 * sp;
-  sp = 1.0 / 362880 + p2 * sp;
-  sp = -1.0 / 5040 + p2 * sp;
-  sp = 1.0 / 120 + p2 * sp;
-  sp = -1.0 / 6 + p2 * sp;
-  sp = phi * (1.0 + p2 * sp);
-  F64 cp = splat(-1.0 / 87178291200.0);
-  cp = 1.0 / 479001600.0 + p2 * cp;
-  cp = -1.0 / 3628800 + p2 * cp;
-  cp = 1.0 / 40320 + p2 * cp;
-  cp = -1.0 / 720 + p2 * cp;
-  cp = 1.0 / 24 + p2 * cp;
-  cp = -0.5 + p2 * cp;
-  cp = 1.0 + p2 * cp;
+  F64 sp, cp;
+  detail::quarter_sin_cos(phi, sp, cp);
   const I64 odd = bit_set(ab, 50), neg = bit_set(ab, 51);
   const F64 cq = blend(odd, -sp, cp), sq = blend(odd, cp, sp);
   cos_out = radius * blend(neg, -cq, cq);

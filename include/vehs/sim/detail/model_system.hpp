@@ -163,7 +163,6 @@ struct CompiledModel {
 template <int L, bool kElectro, bool kColored>
 class ModelSystem {
  public:
-  static constexpr bool fast_path = false;
   static constexpr int lanes = L;
   static constexpr int electro_index = 2;
   static constexpr int colored_index = 2 + (kElectro ? 1 : 0);
@@ -326,7 +325,6 @@ struct EigenLanes {
 template <int L, int K, class Types = EigenLanes<L>>
 class PolynomialSystem {
  public:
-  static constexpr bool fast_path = true;
   static constexpr int lanes = L;
   static constexpr int electro_index = 2;
   static constexpr int colored_index = 2;
