@@ -123,19 +123,10 @@ struct NormalBlocks {
   }
 };
 
-/// The fast path's system as the engine sees it (the state's layout): the SIMD kernels step
-/// PolynomialSystem (src/sim/simd/fast_kernel.hpp).
-struct KernelSystem {
-  static constexpr int lanes = kLanes;
-  static constexpr int dim = 2;
-  static constexpr int noises = 1;
-  static constexpr int electro_index = 2;
-  static constexpr int colored_index = 2;
-  static constexpr bool has_electro = false;
-  static constexpr bool has_colored = false;
-  using Lanes = Eigen::Array<double, kLanes, 1>;
-  using State = Eigen::Array<double, kLanes, 2>;
-  explicit KernelSystem(const CompiledModel&) {}
+/// The fast path's system as the engine sees it: PolynomialSystem's layout (state, lanes); the
+/// SIMD kernels step PolynomialSystem itself (src/sim/simd/fast_kernel.hpp).
+struct KernelSystem : PolynomialSystem<kLanes, 2> {
+  using PolynomialSystem::PolynomialSystem;
 };
 static_assert(kLanes == FastBatch::kLanes, "the kernels run batches of kLanes records");
 
