@@ -32,8 +32,21 @@ foreach(f IN LISTS exported)
     endif()
   endforeach()
 endforeach()
+# ... nor do its installed headers include them
+file(GLOB_RECURSE headers "${work}/prefix/include/vehs/*.hpp")
+foreach(h IN LISTS headers)
+  file(STRINGS "${h}" includes REGEX "^#include")
+  foreach(private CLI/ fast_float umfpack omp.h)
+    string(FIND "${includes}" "${private}" at)
+    if(NOT at EQUAL -1)
+      message(FATAL_ERROR "${h} includes a private dependency ('${private}')")
+    endif()
+  endforeach()
+endforeach()
+# a user's machine need not have the tools' dependencies: the package must configure without them
 execute_process(COMMAND ${CMAKE_COMMAND} -S "${CONSUMER_SOURCE_DIR}" -B "${work}/build" -G "${GENERATOR}"
                 -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${work}/prefix
+                -DCMAKE_DISABLE_FIND_PACKAGE_CLI11=ON -DCMAKE_DISABLE_FIND_PACKAGE_FastFloat=ON
                 -DCMAKE_EXPORT_COMPILE_COMMANDS=ON RESULT_VARIABLE rc)
 if(rc)
   message(FATAL_ERROR "configuring ${CONSUMER_SOURCE_DIR} failed: ${rc}")
