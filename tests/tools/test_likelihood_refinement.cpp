@@ -153,7 +153,7 @@ TEST_CASE("identify-vehs: bad likelihood settings and unsupported input interpol
       {R"("likelihood": {"per_record_phase": true}})", "no harmonic_forcing effect"},
       {R"("likelihood": {"use": "never"}, "estimator": "likelihood"})", "contradicts estimator"},
       {R"("likelihood": {"lr_alpha": 2}})", "lr_alpha"},
-      {R"("samples": [10, 20000]})", "but the record has 428 samples"},
+      {R"("samples": [10, 20000]})", "but the record has"},
       {R"("samples": [0, 5]})", "'samples' must be [first, last]"},
   };
   for (const auto& c : cases) {
