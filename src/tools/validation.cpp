@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "tools/figures.hpp"
+#include "tools/identify_tool.hpp"
 #include "tools/likelihood_refinement.hpp"
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
@@ -88,18 +89,7 @@ int run_validation(const Model& model, const Config& c, const AppOptions& app) {
   const Config v = c.object("validate", {"data", "columns", "dt", "detrend", "segments", "skip", "input", "substeps",
                                          "scale", "unit", "output", "series", "figure", "figure_samples"});
   const std::string output = v.string("output");
-  ReadOptions ro;
-  if (v.has("columns")) {
-    const Config col = v.object("columns", {"x", "t", "u", "traj"});
-    ro.x_column = col.string_or("x", ro.x_column);
-    ro.t_column = col.string_or("t", ro.t_column);
-    ro.u_column = col.string_or("u", ro.u_column);
-    ro.traj_column = col.string_or("traj", ro.traj_column);
-  }
-  if (v.has("dt")) ro.dt = v.positive("dt");
-  ro.require_u = model.uses_drive();
-  ro.read_u = model.uses_drive();
-  ro.min_samples = 3;
+  const ReadOptions ro = identify_read_options(v, model.uses_drive());  // the same columns and dt keys
   Dataset data = read_measurements(v.string_list("data"), ro);
   const std::string detrend = v.string_or("detrend", "none");
   if (detrend == "mean")

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "../likelihood/likelihood_fixtures.hpp"
 #include "stat_bounds.hpp"
 #include "tools/tools.hpp"
 #include "vehs/io/measurements.hpp"
@@ -43,24 +44,11 @@ int run_identify(const std::vector<std::string>& args, std::string* err = nullpt
   return code;
 }
 
-Model bistable() {
-  return model_from_json(nlohmann::json::parse(R"({"drift": {"x": 1.0, "x^3": -1.0, "y": -0.1}, "diffusion": {"1": 0.04}})"),
-                         "test");
-}
+using vehs_lik_test::bistable;
 
 /// The bistable Duffing of issue 12 sampled by a sensor at Δt (Taylor 1.5, 40 substeps).
-Dataset bistable_data(double dt, int records, double T, std::uint64_t seed, double noise = 0.0) {
-  sim::SimulationOptions o;
-  o.dt = dt;
-  o.substeps = 40;
-  o.records = records;
-  o.samples = std::size_t(std::llround(T / dt));
-  o.seed = seed;
-  o.scheme = sim::Scheme::Taylor15;
-  o.sensor_noise = noise;
-  o.record_y = false;
-  o.burn_in = 50.0;
-  return sim::simulate(bistable(), o);
+Dataset bistable_data(double dt, int records, double T, std::uint64_t seed) {
+  return vehs_lik_test::simulate(bistable(), dt, records, T, seed);
 }
 
 }  // namespace
@@ -181,18 +169,8 @@ TEST_CASE("identify-vehs: harmonic forcing with one phase per record (amplitude 
     h.id = EffectId::HarmonicForcing;
     h.params = {{"amplitude", 0.12}, {"omega", 0.8}, {"phase", phases[r]}};
     add_effect(m, h, "test");
-    sim::SimulationOptions o;
-    o.dt = 0.25;
-    o.substeps = 40;
-    o.records = 1;
-    o.first_record = std::uint64_t(r);
-    o.samples = 4000;
-    o.seed = 77;
-    o.scheme = sim::Scheme::Taylor15;
-    o.sensor_noise = 0.01;
-    o.record_y = false;
-    o.burn_in = 0.0;
-    d.append(sim::simulate(m, o));
+    d.append(vehs_lik_test::simulate(m, 0.25, 1, 1000.0, 77 + std::uint64_t(r), 0.01));
+    d.records.back().id = r;  // the traj column
   }
   const fs::path data = dir / "phases.csv", cfg = dir / "phases.json", out = dir / "phases_model.json";
   write_measurements(data.string(), d, WriteColumns{false, false, 17});
