@@ -29,7 +29,7 @@ const char* const kValidateHelp =
     "interval (default 8), \"scale\" and \"unit\": for the printed table (e.g. 1000 and \"mV\"), "
     "\"output\": JSON of the scores (required), \"series\": CSV of measured and simulated x per "
     "segment (default beside output, _series.csv), \"figure\": true to draw measured vs simulated "
-    "(gnuplot, beside output; \"figure_samples\": samples shown per segment, default 1000)}. The "
+    "(gnuplot, beside output; \"figure_samples\": samples shown per segment, default 300)}. The "
     "model runs without noise from the measured initial state (x[0] and a one-sided difference "
     "for y) driven by the segment's input. The data must be sampled at the model's sampling "
     "interval (its \"sampling\".dt) when the model file states one. Only `model` and `validate` "
@@ -81,6 +81,27 @@ std::string beside(const std::string& path, const std::string& suffix) {
   return (p.parent_path() / (p.stem().string() + suffix)).string();
 }
 
+/// gnuplot: per segment, measured and simulated x and their difference over `samples` samples
+/// after the skipped transient (the series CSV's columns segment, k, t, u, measured, simulated).
+std::string figure_script(const std::string& data_name, const std::vector<Segment>& segments,
+                          const std::vector<likelihood::Validation>& results, const std::vector<double>& t_first,
+                          const std::vector<double>& dt, std::size_t skip, std::size_t samples, double scale, const std::string& unit) {
+  std::string body = "set datafile separator ','\nset key top right\nset xlabel 't'\nset ylabel 'x'\n";
+  body += "set multiplot layout " + std::to_string(segments.size()) + ",1\n";
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    const std::string sel = "($1 == " + std::to_string(i) + " && $2 >= " + std::to_string(skip) + " && $2 < " +
+                            std::to_string(skip + samples) + " ? ";
+    std::string title = segments[i].name;
+    std::replace(title.begin(), title.end(), '\'', ' ');
+    body += "set title '" + title + ": RMSE " + num(results[i].rmse * scale, 3) + " " + unit + "'\n";
+    body += "set xrange [" + num(t_first[i] + double(skip) * dt[i], 12) + ":" +
+            num(t_first[i] + double(skip + samples) * dt[i], 12) + "]\n";
+    body += "plot '" + data_name + "' using 3:" + sel + "$5 : 1/0) with lines lw 2 title 'measured', '' using 3:" + sel +
+            "$6 : 1/0) with lines dt 2 title 'simulated', '' using 3:" + sel + "$5 - $6 : 1/0) with lines title 'error'\n";
+  }
+  return body + "unset multiplot\n";
+}
+
 }  // namespace
 
 int run_validation(const Model& model, const Config& c, const AppOptions& app) {
@@ -111,7 +132,7 @@ int run_validation(const Model& model, const Config& c, const AppOptions& app) {
   const double scale = v.positive_or("scale", 1.0);
   const std::string unit = v.string_or("unit", "");
   const bool figure = v.boolean_or("figure", false);
-  const auto figure_samples = static_cast<std::size_t>(v.integer_at_least("figure_samples", 10, 1000));
+  const auto figure_samples = static_cast<std::size_t>(v.integer_at_least("figure_samples", 10, 300));
   const std::string series_path = v.string_or("series", beside(output, "_series.csv"));
 
   if (model.uses_drive()) check_input_interpolation(fo.input, data, true, v.where("input"));
@@ -124,6 +145,7 @@ int run_validation(const Model& model, const Config& c, const AppOptions& app) {
   csv.precision(10);
   csv << "segment,k,t,u,measured,simulated\n";  // segment: index into "segments" of the JSON
   std::vector<likelihood::Validation> results;
+  std::vector<double> t_first, dts;  // time of each segment's first sample, its sampling interval
   for (const auto& seg : segments) {
     const Record& rec = data.records[seg.record];
     if (seg.last - seg.first <= skip)
@@ -134,6 +156,8 @@ int run_validation(const Model& model, const Config& c, const AppOptions& app) {
     if (model.uses_drive()) us.assign(data.u_of(rec) + seg.first, data.u_of(rec) + seg.last);
     fo.t0 = rec.t0 + static_cast<double>(seg.first) * rec.dt;
     fo.phase = seg.phase;
+    t_first.push_back(fo.t0);
+    dts.push_back(rec.dt);
     likelihood::Validation val;
     try {
       val = likelihood::validate_free_run(model, xs, us, rec.dt, skip, fo);
@@ -161,19 +185,8 @@ int run_validation(const Model& model, const Config& c, const AppOptions& app) {
   j["series"] = series_path;
   if (figure) {
     const std::filesystem::path dir = std::filesystem::path(output).parent_path();
-    const std::string data_name = std::filesystem::path(series_path).filename().string();
-    std::string body = "set datafile separator ','\nset key top right\nset xlabel 't'\nset ylabel 'x'\n";
-    body += "set multiplot layout " + std::to_string(segments.size()) + ",1\n";
-    for (std::size_t i = 0; i < segments.size(); ++i) {
-      const std::string sel = "($1 == " + std::to_string(i) + " && $2 >= " + std::to_string(skip) + " && $2 < " +
-                              std::to_string(skip + figure_samples) + " ? ";
-      std::string title = segments[i].name;
-      std::replace(title.begin(), title.end(), '\'', ' ');
-      body += "set title '" + title + ": RMSE " + num(results[i].rmse * scale, 3) + " " + unit + "'\n";
-      body += "plot '" + data_name + "' using 3:" + sel + "$5 : 1/0) with lines lw 2 title 'measured', '' using 3:" + sel +
-              "$6 : 1/0) with lines dt 2 title 'simulated', '' using 3:" + sel + "$5 - $6 : 1/0) with lines title 'error'\n";
-    }
-    body += "unset multiplot\n";
+    const std::string body = figure_script(std::filesystem::path(series_path).filename().string(), segments, results,
+                                           t_first, dts, skip, figure_samples, scale, unit);
     const std::string fig = render_figure(dir.empty() ? "." : dir.string(), std::filesystem::path(output).stem().string(), body,
                                           "svg", 1000, 300 * static_cast<int>(segments.size()));
     if (!fig.empty()) j["figure"] = fig;
