@@ -255,7 +255,9 @@ const ConfigSchema& identify_schema() {
       },
       "Outputs: the model file holds drift, diffusion, stderr and the extra keys estimator, "
       "sampling (how the data were sampled), residuals, selection (the whole sparse-regression "
-      "path with BIC and CV figures), fit, data and provenance.\n"
+      "path with BIC and CV figures), fit, data and provenance; after a likelihood refinement also "
+      "likelihood (measurement noise, record phases, log-likelihood, BIC, covariance) and "
+      "estimator.input, and stdout says why the likelihood was or was not used.\n"
       "Examples: identify-vehs data/paper/identify.json (the paper's data, default settings); "
       "identify-vehs data/identify/table4.json (the paper's Table 4 as a study)."};
   return schema;
