@@ -51,6 +51,24 @@ Dataset bistable_data(double dt, int records, double T, std::uint64_t seed) {
   return vehs_lik_test::simulate(bistable(), dt, records, T, seed);
 }
 
+/// Writes `d` and a config with `keys` (besides data and output), runs identify-vehs and reads
+/// the model file, which the likelihood must have refined.
+ModelFile refined_fit(const Dataset& d, const std::string& name, const std::string& keys) {
+  const fs::path dir = work_dir();
+  const fs::path data = dir / (name + ".csv"), cfg = dir / (name + ".json"), out = dir / (name + "_model.json");
+  write_measurements(data.string(), d, WriteColumns{false, false, 17});
+  write_text(cfg, R"({"data": ")" + data.string() + R"(", "output": ")" + out.string() + "\", " + keys + "}");
+  fs::remove(out);
+  std::string err;
+  const int code = run_identify({cfg.string(), "--quiet"}, &err);
+  INFO(err);
+  REQUIRE(code == 0);
+  ModelFile f = read_model_file(out.string());
+  REQUIRE(f.model.fit);
+  REQUIRE(f.model.fit->likelihood);
+  return f;
+}
+
 }  // namespace
 
 TEST_CASE("the sampling rule: omega*dt from lag-1 and lag-2 increments, insensitive to sensor noise",
@@ -74,18 +92,8 @@ TEST_CASE("the sampling rule: omega*dt from lag-1 and lag-2 increments, insensit
 TEST_CASE("identify-vehs: estimator auto at omega*dt 1.0 is refined by the likelihood; exact support and "
           "estimates within their standard errors",
           "[tools][likelihood][slow]") {
-  const fs::path dir = work_dir();
-  const Dataset d = bistable_data(0.7, 4, 1000.0, 31);
-  const fs::path data = dir / "bistable07.csv", cfg = dir / "auto.json", out = dir / "auto_model.json";
-  write_measurements(data.string(), d, WriteColumns{false, false, 17});
-  write_text(cfg, R"({"data": ")" + data.string() + R"(", "output": ")" + out.string() +
-                      R"(", "drift_library": ["1", "x", "x^2", "x^3", "y"], "diffusion_library": ["1"], "sparsity": "none"})");
-  fs::remove(out);
-  std::string err;
-  REQUIRE(run_identify({cfg.string(), "--quiet"}, &err) == 0);
-  const ModelFile f = read_model_file(out.string());
-  REQUIRE(f.model.fit);
-  REQUIRE(f.model.fit->likelihood);
+  const ModelFile f = refined_fit(bistable_data(0.7, 4, 1000.0, 31), "auto",
+                                  R"("drift_library": ["1", "x", "x^2", "x^3", "y"], "diffusion_library": ["1"], "sparsity": "none")");
   const LikelihoodFit& lf = *f.model.fit->likelihood;
   CHECK(lf.reason.find("omega*dt") != std::string::npos);
   CHECK(f.sections["estimator"]["refined"] == "likelihood");
@@ -159,7 +167,6 @@ TEST_CASE("identify-vehs: bad likelihood settings and unsupported input interpol
 
 TEST_CASE("identify-vehs: harmonic forcing with one phase per record (amplitude and omega shared) by the likelihood",
           "[tools][likelihood][effects][slow]") {
-  const fs::path dir = work_dir();
   // four records started at unrelated times: phases the fit never sees
   const double phases[] = {-2.5, -0.4, 1.1, 2.9};
   Dataset d;
@@ -172,17 +179,8 @@ TEST_CASE("identify-vehs: harmonic forcing with one phase per record (amplitude 
     d.append(vehs_lik_test::simulate(m, 0.25, 1, 1000.0, 77 + std::uint64_t(r), 0.01));
     d.records.back().id = r;  // the traj column
   }
-  const fs::path data = dir / "phases.csv", cfg = dir / "phases.json", out = dir / "phases_model.json";
-  write_measurements(data.string(), d, WriteColumns{false, false, 17});
-  write_text(cfg, R"({"data": ")" + data.string() + R"(", "output": ")" + out.string() +
-                      R"(", "drift_library": ["x", "x^3", "y"], "diffusion_library": ["1"], "sparsity": "none",
-      "effects": ["harmonic_forcing"], "likelihood": {"per_record_phase": true, "select": false}})");
-  fs::remove(out);
-  std::string err;
-  REQUIRE(run_identify({cfg.string(), "--quiet"}, &err) == 0);
-  const ModelFile f = read_model_file(out.string());
-  REQUIRE(f.model.fit);
-  REQUIRE(f.model.fit->likelihood);
+  const ModelFile f = refined_fit(d, "phases", R"("drift_library": ["x", "x^3", "y"], "diffusion_library": ["1"], "sparsity": "none",
+      "effects": ["harmonic_forcing"], "likelihood": {"per_record_phase": true, "select": false})");
   const LikelihoodFit& lf = *f.model.fit->likelihood;
   REQUIRE(lf.record_phases.size() == 4);
   const Effect* h = f.model.find_effect(EffectId::HarmonicForcing);
