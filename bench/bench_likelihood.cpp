@@ -255,6 +255,8 @@ int effects(int seeds) {
   std::printf("# dynamic effects by the likelihood (dt 0.25, 1 %% sensor noise, start: truth +20 %%, omega +0.1 %%)\n");
   std::printf("%-28s %-5s %8s %8s | worst effect param: rel.err, |z|\n", "effect", "seed", "max|z|", "rel.err");
   std::map<std::string, std::pair<int, int>> tally;
+  // per effect and parameter: signed z and signed relative error of every seed (bias vs tail)
+  std::map<std::string, std::map<std::string, std::vector<std::pair<double, double>>>> signed_errors;
   for (const std::string which : {"electromechanical_coupling", "colored_noise", "harmonic_forcing"}) {
     for (int s = 0; s < seeds; ++s) {
       likelihood::ObservedModel truth{bistable(), 0.01, {}};
@@ -297,6 +299,8 @@ int effects(int seeds) {
         if (name.rfind("phase[", 0) == 0) diff = std::remainder(diff, 2 * M_PI);
         const double z = std::abs(diff) / r.stderrs[std::size_t(i)];
         max_z = std::max(max_z, z);
+        if (name.rfind("phase[", 0) != 0)
+          signed_errors[which][name].push_back({diff / r.stderrs[std::size_t(i)], diff / std::abs(v)});
         if (is_effect) {
           rel = std::max(rel, std::abs(diff / v));
           ez = std::max(ez, z);
@@ -318,6 +322,19 @@ int effects(int seeds) {
   }
   for (const auto& [k, v] : tally)
     std::printf("summary %s: all within 3 SE and effect params within 15 %%: %d/%d\n", k.c_str(), v.first, v.second);
+  std::printf("per parameter over seeds: mean z (its SE 1/sqrt(n) if the SEs are calibrated), sd of z, mean relative "
+              "error +- its SE, 95 %% coverage\n");
+  for (const auto& [which, params] : signed_errors)
+    for (const auto& [name, list] : params) {
+      const double n = double(list.size());
+      double mz = 0, mr = 0, sz = 0, sr = 0;
+      int cover = 0;
+      for (const auto& [z, r] : list) mz += z / n, mr += r / n, cover += std::abs(z) <= 1.959964;
+      for (const auto& [z, r] : list) sz += (z - mz) * (z - mz) / (n - 1), sr += (r - mr) * (r - mr) / (n - 1);
+      std::printf("  %-28s %-26s mean z %+6.2f (+-%.2f) sd z %5.2f  mean rel.err %+7.2f %% +- %5.2f %%  cover %d/%d\n",
+                  which.c_str(), name.c_str(), mz, 1 / std::sqrt(n), std::sqrt(sz), 100 * mr, 100 * std::sqrt(sr / n), cover,
+                  int(n));
+    }
   std::printf("\n");
   return 0;
 }

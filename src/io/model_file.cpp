@@ -59,10 +59,94 @@ int positive_integer(const nlohmann::json& o, const char* key, const std::string
   return v.get<int>();
 }
 
+std::vector<double> number_array(const nlohmann::json& o, const char* key, const std::string& where) {
+  std::vector<double> out;
+  if (!o.contains(key)) return out;
+  if (!o[key].is_array()) throw Error(where + "." + key + " must be a list of numbers");
+  for (std::size_t i = 0; i < o[key].size(); ++i)
+    out.push_back(finite_number(o[key][i], where + "." + key + "[" + std::to_string(i) + "]"));
+  return out;
+}
+
+std::string optional_string(const nlohmann::json& o, const char* key, const std::string& where) {
+  if (!o.contains(key)) return "";
+  if (!o[key].is_string()) throw Error(where + "." + key + " must be a string");
+  return o[key].get<std::string>();
+}
+
+LikelihoodFit likelihood_from_json(const nlohmann::json& l, const std::string& w) {
+  if (!l.is_object()) throw Error(w + " must be an object");
+  LikelihoodFit f;
+  f.measurement_sd = optional_number(l, "measurement_sd", 0.0, w);
+  if (f.measurement_sd < 0.0) throw Error(w + ".measurement_sd must be >= 0");
+  f.record_phases = number_array(l, "record_phases", w);
+  f.log_likelihood = optional_number(l, "log_likelihood", 0.0, w);
+  f.bic = optional_number(l, "bic", 0.0, w);
+  const double n = optional_number(l, "observations", 0.0, w);
+  if (n < 0.0 || n != std::floor(n)) throw Error(w + ".observations must be a whole number >= 0");
+  f.observations = static_cast<std::size_t>(n);
+  f.substeps = positive_integer(l, "substeps", w);
+  f.selection = optional_string(l, "selection", w);
+  f.covariance_method = optional_string(l, "covariance_method", w);
+  f.reason = optional_string(l, "reason", w);
+  if (l.contains("converged")) {
+    if (!l["converged"].is_boolean()) throw Error(w + ".converged must be true or false");
+    f.converged = l["converged"].get<bool>();
+  }
+  if (l.contains("parameters")) {
+    if (!l["parameters"].is_array()) throw Error(w + ".parameters must be a list of names");
+    for (const auto& p : l["parameters"]) {
+      if (!p.is_string()) throw Error(w + ".parameters must be a list of names");
+      f.parameters.push_back(p.get<std::string>());
+    }
+  }
+  f.values = number_array(l, "values", w);
+  if (!f.values.empty() && f.values.size() != f.parameters.size())
+    throw Error(w + ".values needs one value per parameter (" + std::to_string(f.parameters.size()) + ")");
+  if (l.contains("covariance")) {
+    const auto& c = l["covariance"];
+    const std::size_t k = f.parameters.size();
+    if (!c.is_array() || c.size() != k) throw Error(w + ".covariance must be a " + std::to_string(k) + " x " + std::to_string(k) + " matrix");
+    for (std::size_t i = 0; i < k; ++i) {
+      if (!c[i].is_array() || c[i].size() != k)
+        throw Error(w + ".covariance must be a " + std::to_string(k) + " x " + std::to_string(k) + " matrix");
+      for (std::size_t m = 0; m < k; ++m)
+        f.covariance.push_back(finite_number(c[i][m], w + ".covariance[" + std::to_string(i) + "][" + std::to_string(m) + "]"));
+    }
+  }
+  return f;
+}
+
+OJ likelihood_to_json(const LikelihoodFit& f) {
+  OJ l;
+  l["measurement_sd"] = f.measurement_sd;
+  if (!f.record_phases.empty()) l["record_phases"] = f.record_phases;
+  l["log_likelihood"] = f.log_likelihood;
+  l["bic"] = f.bic;
+  l["observations"] = f.observations;
+  if (f.substeps > 0) l["substeps"] = f.substeps;
+  if (!f.selection.empty()) l["selection"] = f.selection;
+  if (!f.covariance_method.empty()) l["covariance_method"] = f.covariance_method;
+  l["converged"] = f.converged;
+  if (!f.reason.empty()) l["reason"] = f.reason;
+  l["parameters"] = f.parameters;
+  if (!f.values.empty()) l["values"] = f.values;
+  const std::size_t k = f.parameters.size();
+  if (f.covariance.size() == k * k) {
+    OJ c = OJ::array();
+    for (std::size_t i = 0; i < k; ++i)
+      c.push_back(std::vector<double>(f.covariance.begin() + long(i * k), f.covariance.begin() + long((i + 1) * k)));
+    l["covariance"] = c;
+  }
+  return l;
+}
+
 std::optional<FitInfo> fit_from_json(const nlohmann::json& j, const std::string& where) {
   const bool has_est = j.contains("estimator"), has_samp = j.contains("sampling");
-  if (!has_est && !has_samp) return std::nullopt;
+  const bool has_lik = j.contains("likelihood");
+  if (!has_est && !has_samp && !has_lik) return std::nullopt;
   FitInfo f;
+  if (has_lik) f.likelihood = likelihood_from_json(j["likelihood"], where + ": likelihood");
   if (has_est) {
     const auto& e = j["estimator"];
     const std::string w = where + ": estimator";
@@ -72,6 +156,10 @@ std::optional<FitInfo> fit_from_json(const nlohmann::json& j, const std::string&
       f.estimator = enum_from_string(kEstimatorNames, e["used"].get<std::string>(), w + ".used");
     }
     f.stride = positive_integer(e, "stride", w);
+    if (e.contains("input")) {
+      if (!e["input"].is_string()) throw Error(w + ".input must be a string");
+      f.input = enum_from_string(kInputInterpolationNames, e["input"].get<std::string>(), w + ".input");
+    }
   }
   if (has_samp) {
     const auto& s = j["sampling"];
@@ -99,6 +187,8 @@ std::optional<FitInfo> fit_from_json(const nlohmann::json& j, const std::string&
 void fit_to_json(const FitInfo& f, OJ& est, OJ& samp) {
   if (f.estimator != Estimator::Auto) est["used"] = enum_to_string(kEstimatorNames, f.estimator);
   if (f.stride > 0) est["stride"] = f.stride;
+  if (f.input != InputInterpolation::ZeroOrderHold || f.likelihood) est["input"] = enum_to_string(kInputInterpolationNames, f.input);
+  if (f.likelihood) est["refined"] = "likelihood";
   const SamplingDiagnosis& d = f.sampling;
   if (d.dt > 0.0) samp["dt"] = d.dt;
   if (d.stride > 0) samp["pilot_stride"] = d.stride;
@@ -239,6 +329,7 @@ nlohmann::ordered_json model_to_json(const Model& m, const nlohmann::ordered_jso
     fit_to_json(*m.fit, est, samp);
     if (!est.empty()) j["estimator"] = est;
     if (!samp.empty()) j["sampling"] = samp;
+    if (m.fit->likelihood) j["likelihood"] = likelihood_to_json(*m.fit->likelihood);
   }
   return j;
 }

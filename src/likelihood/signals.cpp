@@ -5,6 +5,7 @@
 #include <string>
 
 #include "vehs/core/error.hpp"
+#include "vehs/likelihood/detail/input_path.hpp"
 
 namespace vehs::likelihood {
 
@@ -37,6 +38,21 @@ Dataset slice_record(const Dataset& data, std::size_t record, std::size_t first,
   d.x.assign(data.x_of(r) + first, data.x_of(r) + last);
   if (data.has_u()) d.u.assign(data.u_of(r) + first, data.u_of(r) + last);
   return d;
+}
+
+std::vector<double> refine_input(const std::vector<double>& u, int factor, InputInterpolation how) {
+  if (factor < 1) throw Error("refine_input: factor must be >= 1");
+  std::vector<double> out;
+  if (u.size() < 2) return out;
+  out.reserve((u.size() - 1) * std::size_t(factor));
+  for (std::size_t k = 0; k + 1 < u.size(); ++k) {
+    const detail::InputCubic c = detail::input_cubic(u.data(), u.size(), k, how);
+    for (int j = 0; j < factor; ++j) {
+      const double s = (j + 0.5) / factor;
+      out.push_back(c[0] + s * (c[1] + s * (c[2] + s * c[3])));
+    }
+  }
+  return out;
 }
 
 }  // namespace vehs::likelihood

@@ -9,6 +9,8 @@
 #include "vehs/core/error.hpp"
 #include "vehs/core/parameters.hpp"
 #include "tools/identify_file.hpp"
+#include "tools/likelihood_refinement.hpp"
+#include "vehs/likelihood/signals.hpp"
 #include "tools/study_output.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/identify/dynamic.hpp"
@@ -124,7 +126,35 @@ sim::InitialCondition parse_x0(const Config& c, const std::string& key, int reco
   c.fail(key, "must be {\"uniform\": [a, b]} or a list of one value per record");
 }
 
+Dataset sample_range(const Config& c, const Dataset& data) {
+  const auto& v = c.raw("samples");
+  if (!v.is_array() || v.size() != 2 || !v[0].is_number_integer() || !v[1].is_number_integer() ||
+      v[0].get<long long>() < 0 || v[1].get<long long>() < v[0].get<long long>() + 16)
+    c.fail("samples", "must be [first, last] with integers 0 <= first and last >= first + 16");
+  if (data.records.size() != 1)
+    c.fail("samples", "needs data with one record (they have " + std::to_string(data.records.size()) + ")");
+  const auto first = v[0].get<std::size_t>(), last = v[1].get<std::size_t>();
+  if (last > data.records[0].size)
+    c.fail("samples", "ends at " + std::to_string(last) + " but the record has " + std::to_string(data.records[0].size) + " samples");
+  return likelihood::slice_record(data, 0, first, last);
+}
+
 std::string g(double v, int digits = 6) { return vehs::detail::format_number(v, digits); }
+
+void print_refinement(const Refinement& f) {
+  std::printf("sampling: %s\n", f.adequacy.reason.c_str());
+  if (!f.result) {
+    if (!f.adequacy.vouched) std::printf("  (the likelihood would refine this fit: estimator \"auto\" or \"likelihood\")\n");
+    return;
+  }
+  const auto& r = *f.result;
+  std::printf("%s\n", r.summary.BriefReport().c_str());
+  for (const auto& st : r.summary.selection)
+    std::printf("  selection: remove %-16s |z| %8.3g, 2 dlogL %10.4g vs %.3g: %s\n", st.removed.c_str(), st.z, st.delta,
+                st.threshold, st.accepted ? "removed" : "kept");
+  std::printf("log L %s, BIC %s; measurement_sd %s\n", g(r.log_likelihood, 10).c_str(), g(r.bic, 10).c_str(),
+              g(r.model.measurement_sd, 4).c_str());
+}
 
 }  // namespace
 
@@ -149,6 +179,11 @@ const ConfigSchema& identify_schema() {
            "{\"x\": \"V2\", \"u\": \"V1\"} for the Silverbox data.",
            "{\"x\": \"x\", \"t\": \"t\", \"u\": \"u\", \"traj\": \"traj\"}"},
           {"dt", "number", "Sampling interval for files without a time column.", "", true},
+          {"samples", "[first, last]",
+           "Use only samples [first, last) of the data (one record; applied after detrend, so "
+           "that the offsets are those of the whole record), e.g. the estimation part of a "
+           "benchmark split.",
+           "", true},
           {"detrend", "string",
            "\"mean\": subtract each record's mean from x and u (DC offsets of real sensors); "
            "\"none\": use the data as they are.",
@@ -170,8 +205,11 @@ const ConfigSchema& identify_schema() {
            "differences + diffusion from drift residuals: data from an explicit scheme at the "
            "recorded step), uli (underdamped Langevin inference with Ito correction: a sensor "
            "sampling a continuous process), noisy (ULI on a stride, tolerating white sensor "
-           "noise on x).",
+           "noise on x), likelihood (the auto moment fit refined by maximum likelihood; see "
+           "`likelihood`). With auto the likelihood refines the moment fit whenever the sampling "
+           "cannot vouch for the expansions.",
            "\"auto\""},
+          {"likelihood", "object", kLikelihoodHelp, "", true},
           {"stride", "integer",
            "ULI stride k (uli, noisy): finite differences over k samples. 0 chooses: 1 for uli, "
            "from the measured sensor-noise level for noisy.",
@@ -217,7 +255,9 @@ const ConfigSchema& identify_schema() {
       },
       "Outputs: the model file holds drift, diffusion, stderr and the extra keys estimator, "
       "sampling (how the data were sampled), residuals, selection (the whole sparse-regression "
-      "path with BIC and CV figures), fit, data and provenance.\n"
+      "path with BIC and CV figures), fit, data and provenance; after a likelihood refinement also "
+      "likelihood (measurement noise, record phases, log-likelihood, BIC, covariance) and "
+      "estimator.input, and stdout says why the likelihood was or was not used.\n"
       "Examples: identify-vehs data/paper/identify.json (the paper's data, default settings); "
       "identify-vehs data/identify/table4.json (the paper's Table 4 as a study)."};
   return schema;
@@ -253,7 +293,7 @@ identify::Options identify_options(const Config& c) {
     if (k.has("drift")) o.keep_drift = parse_term_list(k, "drift");
     if (k.has("diffusion")) o.keep_diffusion = parse_term_list(k, "diffusion");
   }
-  o.estimator = enum_from_string(kEstimatorNames, c.string_or("estimator", "auto"), c.where("estimator"));
+  o.estimator = enum_from_string(kEstimatorNames, moment_estimator_name(c), c.where("estimator"));
   o.stride = static_cast<int>(c.integer_at_least("stride", 0, 0));
   o.discretization_correction = c.boolean_or("discretization_correction", true);
   o.sparsity = enum_from_string(kSparsityNames, c.string_or("sparsity", "ssr"), c.where("sparsity"));
@@ -320,6 +360,8 @@ int run_identify(Config& c, const AppOptions& app) {
   const std::string output = c.string("output");
   if (c.has("study")) {
     if (c.has("data")) c.fail("data", "cannot be combined with 'study' (the study simulates its data)");
+    if (c.has("likelihood") || c.string_or("estimator", "auto") == "likelihood")
+      c.fail("study", "runs the moment estimators only (the likelihood studies are bench/likelihood.sh)");
     StudyOptions so = study_options(c);
     so.progress = app.progress;
     const StudyResult r = run_study(so);
@@ -336,6 +378,8 @@ int run_identify(Config& c, const AppOptions& app) {
   if (!c.has("data")) c.fail("data", "is missing (list the measurement files, or give 'study')");
   Options o = identify_options(c);
   o.progress = app.progress;
+  LikelihoodSettings lik = likelihood_settings(c);
+  lik.options.progress = !app.quiet;
   bool need_u = false;
   for (const auto& t : o.drift_library) need_u = need_u || t.depends_on_u();
   const ReadOptions ro = identify_read_options(c, need_u);
@@ -346,7 +390,12 @@ int run_identify(Config& c, const AppOptions& app) {
     subtract_record_means(data);
   else if (detrend != "none")
     c.fail("detrend", "must be \"none\" or \"mean\" (got \"" + detrend + "\")");
+  if (c.has("samples")) data = sample_range(c, data);
   identify::Result r = identify::identify(data, o);
+  Options quiet = o;
+  quiet.progress = {};
+  const Refinement refinement =
+      refine_moment_fit(r.model, data, lik, [&](const Dataset& one) { return identify::identify(one, quiet).model; });
   // data summary and provenance
   nlohmann::ordered_json ds;
   ds["files"] = files;
@@ -371,6 +420,7 @@ int run_identify(Config& c, const AppOptions& app) {
     for (const auto& p : physical_parameters(r.model))
       std::printf("%-14s %14s %12s\n", p.name.c_str(), g(p.value).c_str(),
                   p.stderr_ ? g(*p.stderr_, 3).c_str() : "");
+    print_refinement(refinement);
     std::printf("%zu rows in %.2f s; model written to %s\n", r.report.fit.rows, r.report.fit.seconds, output.c_str());
   }
   return 0;

@@ -5,11 +5,13 @@
 #include <sstream>
 
 #include "tools/statistics_file.hpp"
+#include "tools/validation.hpp"
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/io/measurements.hpp"
 #include "vehs/io/model_file.hpp"
+#include "vehs/likelihood/signals.hpp"
 
 namespace vehs::tools {
 
@@ -95,6 +97,13 @@ const ConfigSchema& simulate_schema() {
            "false", false},
           {"summary", "path", "JSON report of the run (sizes, scheme, time, steps per second).", "",
            true},
+          {"validate", "object", kValidateHelp, "", true},
+          {"record_phases", "[phase per trajectory]",
+           "harmonic_forcing with one phase per record (records started at unrelated times; "
+           "amplitude and omega shared): one phase per trajectory. Default: the model file's "
+           "likelihood.record_phases when it has one per trajectory, else the model's phase for "
+           "all. Not with 'statistics'.",
+           "", true},
       },
       "Example (the seed paper's data): {\"model\": \"data/sim/paper_model.json\", \"trajectories\": "
       "100, \"duration\": 100, \"dt\": 0.001, \"scheme\": \"rk4_euler\", \"x0\": {\"uniform\": "
@@ -281,10 +290,42 @@ SimulateJob simulate_job_from_config(const Config& c) {
   if (job.output.empty() && !job.with_statistics)
     throw Error(c.file() + ": give 'output' (records) and/or 'statistics' — nothing would be written");
   if (c.has("summary")) job.summary = c.string("summary");
+  if (c.has("record_phases"))
+    job.record_phases = number_list(c, "record_phases", static_cast<std::size_t>(o.records));
+  else if (job.model.fit && job.model.fit->likelihood &&
+           job.model.fit->likelihood->record_phases.size() == static_cast<std::size_t>(o.records))
+    job.record_phases = job.model.fit->likelihood->record_phases;
+  if (!job.record_phases.empty()) {
+    if (!job.model.find_effect(EffectId::HarmonicForcing))
+      c.fail("record_phases", "needs a model with a harmonic_forcing effect");
+    if (job.with_statistics) c.fail("record_phases", "cannot be combined with 'statistics'");
+  }
 
   check_simulation(job.model, o, c.file());
   return job;
 }
+
+namespace {
+
+/// Every `factor`-th sample of every record, recorded at `dt`.
+void decimate(Dataset& d, std::size_t factor, double dt) {
+  Dataset out;
+  for (const auto& r : d.records) {
+    Record rec = r;
+    rec.offset = out.x.size();
+    rec.dt = dt;
+    rec.size = (r.size - 1) / factor + 1;
+    for (std::size_t i = 0; i < rec.size; ++i) {
+      out.x.push_back(d.x[r.offset + i * factor]);
+      if (!d.y.empty()) out.y.push_back(d.y[r.offset + i * factor]);
+      if (!d.u.empty()) out.u.push_back(d.u[r.offset + i * factor]);
+    }
+    out.records.push_back(rec);
+  }
+  d = std::move(out);
+}
+
+}  // namespace
 
 int run_simulate_job(const SimulateJob& job, const AppOptions& app) {
   SimulationOptions o = job.options;
@@ -292,10 +333,54 @@ int run_simulate_job(const SimulateJob& job, const AppOptions& app) {
   SimulationSummary summary;
   Dataset data;
   MonteCarloStatistics stats;
-  if (job.with_statistics)
+  // A model fitted with an interpolated input (estimator.input) is driven the same way: the
+  // simulator holds its drive per step, so it steps at dt/substeps with the interpolated input
+  // at each step's midpoint and every substeps-th sample is kept.
+  const InputInterpolation how = job.model.fit ? job.model.fit->input : InputInterpolation::ZeroOrderHold;
+  const bool interpolated = how != InputInterpolation::ZeroOrderHold && (!o.drive.empty() || !o.drive_per_record.empty());
+  const auto factor = static_cast<std::size_t>(o.substeps);
+  if (interpolated) {
+    if (job.with_statistics)
+      throw Error(job.config_file + ": 'statistics' with a drive applied as \"" + enum_to_string(kInputInterpolationNames, how) +
+                  "\" (the model's estimator.input) is not supported: simulate records ('output') instead");
+    if (!o.drive.empty()) o.drive = likelihood::refine_input(o.drive, o.substeps, how);
+    for (auto& u : o.drive_per_record) u = likelihood::refine_input(u, o.substeps, how);
+    o.dt /= static_cast<double>(factor);
+    o.samples = (o.samples - 1) * factor + 1;
+    o.substeps = 1;
+  }
+  if (job.with_statistics) {
     stats = simulate_statistics(job.model, o, job.statistics, &summary, job.output.empty() ? nullptr : &data);
-  else
+  } else if (!job.record_phases.empty()) {
+    // one run per record with its phase; first_record keeps each record's random stream
+    SimulationOptions one = o;
+    one.records = 1;
+    one.drive_per_record.clear();
+    for (std::size_t r = 0; r < job.record_phases.size(); ++r) {
+      Model m = job.model;
+      for (auto& e : m.effects)
+        if (e.id == EffectId::HarmonicForcing) e.params["phase"] = job.record_phases[r];
+      one.first_record = o.first_record + r;
+      if (!o.drive_per_record.empty()) one.drive_per_record = {o.drive_per_record[r]};
+      SimulationSummary part;
+      Dataset d = simulate(m, one, &part);
+      summary.steps += part.steps;
+      summary.seconds += part.seconds;
+      summary.records += part.records;
+      summary.samples += part.samples;
+      summary.threads = part.threads;
+      summary.h = part.h;
+      summary.scheme = part.scheme;
+      data.append(std::move(d));
+    }
+    summary.steps_per_second = summary.seconds > 0 ? static_cast<double>(summary.steps) / summary.seconds : 0.0;
+  } else {
     simulate(job.model, o, data, &summary);
+  }
+  if (interpolated) {
+    decimate(data, factor, job.options.dt);
+    o = job.options;
+  }
 
   if (!job.output.empty()) {
     WriteColumns cols;
@@ -353,6 +438,11 @@ int run_simulate_job(const SimulateJob& job, const AppOptions& app) {
 }
 
 int run_simulate(Config& config, const AppOptions& app) {
+  if (config.has("validate")) {
+    const ModelFile mf = model_from_config_value(config.raw("model"), config.where("model"));
+    validate_model(mf.model, config.where("model"));
+    return run_validation(mf.model, config, app);
+  }
   return run_simulate_job(simulate_job_from_config(config), app);
 }
 

@@ -22,6 +22,9 @@ struct SimulateJob {
   std::string statistics_json, px_csv, py_csv, pxy_csv;
   std::string summary;           ///< run report JSON; empty: none
   std::string config_file;
+  /// harmonic_forcing phase of each trajectory (records started at unrelated times; from the
+  /// config's record_phases or the model file's likelihood.record_phases); empty: the model's
+  std::vector<double> record_phases;
 };
 
 /// The key table of simulate-vehs.

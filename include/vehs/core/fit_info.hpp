@@ -3,7 +3,11 @@
 // was fitted to were sampled. identify sets it (Model::fit) and the model file carries it
 // ("estimator" and "sampling"); diagnose reads it to look at data through the same lens and to
 // refuse data sampled at another interval. A model built in C++ may set it or leave it empty.
+#include <cstddef>
 #include <limits>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "vehs/core/enum_names.hpp"
 
@@ -44,10 +48,42 @@ struct SamplingDiagnosis {
   double sensor_noise_sd = 0.0;  ///< white sensor noise s on x (estimated by the noisy estimator)
 };
 
+/// How a recorded input u is applied between its samples: held (a DAC), linear, cubic
+/// (Catmull–Rom) or band-limited (windowed sinc; an anti-aliased input). The likelihood, the
+/// free run and simulate-vehs apply the input the way the model was fitted with it.
+enum class InputInterpolation { ZeroOrderHold, Linear, Cubic, BandLimited };
+inline constexpr EnumNames<InputInterpolation, 4> kInputInterpolationNames{
+    {{InputInterpolation::ZeroOrderHold, "zoh"},
+     {InputInterpolation::Linear, "linear"},
+     {InputInterpolation::Cubic, "cubic"},
+     {InputInterpolation::BandLimited, "band_limited"}}};
+
+/// What maximum likelihood (vehs/likelihood/refine.hpp) adds to a fit: how the data were
+/// observed and the figures of the fit (the model file's "likelihood" section).
+struct LikelihoodFit {
+  double measurement_sd = 0.0;        ///< white sensor noise on x (0: none in the model)
+  std::vector<double> record_phases;  ///< harmonic_forcing phase per record (empty: shared)
+  double log_likelihood = 0.0;
+  double bic = 0.0;                   ///< −2 log L + k log n
+  std::size_t observations = 0;
+  int substeps = 0;                   ///< RK4 substeps per sampling interval of the filter
+  std::string selection;              ///< "bic", "lr" or "none"
+  std::string covariance_method;      ///< "observed", "fisher" or "sandwich"
+  bool converged = false;
+  std::string reason;                 ///< why the likelihood was used
+  std::vector<std::string> parameters;  ///< free parameters (vehs/likelihood/parameters.hpp names)
+  std::vector<double> values;           ///< their estimates (natural scale)
+  std::vector<double> covariance;       ///< row-major, parameters × parameters
+};
+
 struct FitInfo {
   Estimator estimator = Estimator::Auto;  ///< the estimator used (Auto: not stated)
   int stride = 0;                         ///< its stride k (0: not stated)
   SamplingDiagnosis sampling;
+  /// How the recorded input was applied in the fit (the moment estimators: held).
+  InputInterpolation input = InputInterpolation::ZeroOrderHold;
+  /// Set when the moment fit was refined by maximum likelihood.
+  std::optional<LikelihoodFit> likelihood;
 };
 
 }  // namespace vehs

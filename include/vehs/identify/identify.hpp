@@ -41,6 +41,14 @@
 //               ρ_2k ≈ η/6 where η is the share of white sensor noise in â's variance. Picks
 //               noisy when η > 0.05, else uli when ρ_1 + (2/3)η > (1 − η)/8, else forward; the
 //               choice and the figures are reported in the model file.
+//  * likelihood — not an estimator of this area: identify-vehs's `estimator: "likelihood"` (or a
+//               `likelihood` block) refines the auto moment fit by maximum likelihood at the
+//               data's own sampling (vehs/likelihood/refine.hpp: same support first, then
+//               backward selection by BIC or a likelihood-ratio test; standard errors from the
+//               observed information, Fisher or a sandwich). With auto the tool does so whenever
+//               vehs/likelihood/adequacy.hpp cannot vouch for the expansions above (ω̂Δt ≥ 0.2
+//               with a bias (ω̂Δt)²/12 above the best relative SE, or a recorded input with
+//               ω̂Δt ≥ 0.1). Model::fit->likelihood then holds what the refinement adds.
 //
 // Sparse regression (Options::sparsity): SSR removing at each step the term with the smallest
 // t-ratio (or |coef|, as in the paper), the step chosen by BIC with the measured long-run

@@ -47,18 +47,15 @@
 
 #include "vehs/core/enum_names.hpp"
 #include "vehs/core/dataset.hpp"
+#include "vehs/core/fit_info.hpp"
 #include "vehs/likelihood/observed_model.hpp"
 
 namespace vehs::likelihood {
 
-/// How the recorded input is applied between samples (detail/input_path.hpp): held (a DAC),
-/// linear, cubic (Catmull–Rom) or band-limited (windowed-sinc, for anti-aliased inputs).
-enum class InputInterpolation { ZeroOrderHold, Linear, Cubic, BandLimited };
-inline constexpr EnumNames<InputInterpolation, 4> kInputInterpolationNames{
-    {{InputInterpolation::ZeroOrderHold, "zoh"},
-     {InputInterpolation::Linear, "linear"},
-     {InputInterpolation::Cubic, "cubic"},
-     {InputInterpolation::BandLimited, "band_limited"}}};
+/// How the recorded input is applied between samples (detail/input_path.hpp): the enum of
+/// vehs/core/fit_info.hpp, so that a model file carries it.
+using vehs::InputInterpolation;
+using vehs::kInputInterpolationNames;
 
 struct FilterOptions {
   InputInterpolation input = InputInterpolation::ZeroOrderHold;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "vehs/core/dataset.hpp"
+#include "vehs/core/fit_info.hpp"
 
 namespace vehs::likelihood {
 
@@ -19,5 +20,12 @@ std::vector<double> random_phase_multisine(std::size_t samples, double dt, int l
 /// source follow the original; x and, when present, u are copied). Throws vehs::Error for a
 /// range outside the record.
 Dataset slice_record(const Dataset& data, std::size_t record, std::size_t first, std::size_t last);
+
+/// The recorded input u[0 … n) applied as `how` (detail/input_path.hpp), sampled at the
+/// midpoints of `factor` equal sub-intervals of every interval: value j of interval k is
+/// u(t_k + (j + ½)·Δt/factor), (n − 1)·factor values. Held over each sub-interval, it is the
+/// interpolated input to O(Δt/factor) — how simulate-vehs applies an input that was fitted as
+/// linear, cubic or band-limited with a simulator that holds its drive per step.
+std::vector<double> refine_input(const std::vector<double>& u, int factor, InputInterpolation how);
 
 }  // namespace vehs::likelihood

@@ -1,0 +1,166 @@
+#include "tools/likelihood_refinement.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vehs/core/error.hpp"
+#include "vehs/likelihood/signals.hpp"
+
+namespace vehs::tools {
+
+const char* const kLikelihoodHelp =
+    "Refinement of the moment fit by maximum likelihood (exact at the data's sampling: a "
+    "continuous-discrete Gaussian filter over the model's state, Ceres BFGS with automatic "
+    "derivatives; vehs/likelihood/refine.hpp). Used when estimator is \"likelihood\", when this "
+    "block is given, and with estimator \"auto\" whenever the sampling cannot vouch for the "
+    "moment estimators (omega*dt >= 0.2 with a bias (omega*dt)^2/12 above the best relative "
+    "standard error, or a recorded input with omega*dt >= 0.1; omega from the lag-1 and lag-2 "
+    "increments of x, insensitive to sensor noise; see vehs/likelihood/adequacy.hpp). Keys: "
+    "use (\"auto\", \"always\", \"never\"; default \"always\" when the block is given), input "
+    "(how the recorded input is applied between samples: \"zoh\", \"linear\", \"cubic\", "
+    "\"band_limited\"; carried in the model file and used by simulate-vehs and its validation), "
+    "select (true: backward elimination from the moment fit's support by the criterion), "
+    "criterion (\"bic\" or \"lr\": likelihood-ratio test at level lr_alpha, default 1e-3), "
+    "covariance (standard errors: \"observed\" information, \"fisher\", \"sandwich\"), "
+    "measurement_noise (true: estimate white sensor noise on x), per_record_phase (true: one "
+    "harmonic_forcing phase per record, amplitude and omega shared; records started at unrelated "
+    "times), substeps (RK4 substeps per interval, 0: automatic), max_rounds. The model file then "
+    "holds \"likelihood\": measurement_sd, record_phases, log_likelihood, bic, observations, the "
+    "parameters with their covariance matrix, and estimator.input.";
+
+namespace {
+
+LikelihoodUse use_from_string(const Config& c, const std::string& key, const std::string& s) {
+  if (s == "auto") return LikelihoodUse::Auto;
+  if (s == "always") return LikelihoodUse::Always;
+  if (s == "never") return LikelihoodUse::Never;
+  c.fail(key, "must be \"auto\", \"always\" or \"never\" (got \"" + s + "\")");
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+/// Per-record harmonic phases (and the median amplitude and omega) from a moment fit of each
+/// record; records whose own fit fails keep the shared start.
+void per_record_start(likelihood::ObservedModel& start, const Dataset& data, const MomentFit& fit) {
+  Effect* h = nullptr;
+  for (auto& e : start.model.effects)
+    if (e.id == EffectId::HarmonicForcing) h = &e;
+  std::vector<double> amplitudes, omegas;
+  start.record_phases.assign(data.records.size(), h->params["phase"]);
+  for (std::size_t r = 0; r < data.records.size() && fit; ++r) {
+    try {
+      const Model m = fit(likelihood::slice_record(data, r, 0, data.records[r].size));
+      const Effect* e = m.find_effect(EffectId::HarmonicForcing);
+      if (!e) continue;
+      start.record_phases[r] = e->params.at("phase");
+      amplitudes.push_back(e->params.at("amplitude"));
+      omegas.push_back(e->params.at("omega"));
+    } catch (const Error&) {
+      // keep the shared start for this record
+    }
+  }
+  if (!amplitudes.empty()) {
+    h->params["amplitude"] = median(amplitudes);
+    h->params["omega"] = median(omegas);
+  }
+}
+
+}  // namespace
+
+std::string moment_estimator_name(const Config& c) {
+  const std::string e = c.string_or("estimator", "auto");
+  return e == "likelihood" ? "auto" : e;
+}
+
+LikelihoodSettings likelihood_settings(const Config& c) {
+  LikelihoodSettings s;
+  const std::string estimator = c.string_or("estimator", "auto");
+  s.use = estimator == "likelihood" ? LikelihoodUse::Always
+          : estimator == "auto"     ? LikelihoodUse::Auto
+                                    : LikelihoodUse::Never;
+  auto& o = s.options;
+  o.select = true;
+  o.covariance = likelihood::Covariance::Observed;
+  if (!c.has("likelihood")) return s;
+  const Config l = c.object("likelihood", {"use", "input", "select", "criterion", "lr_alpha", "covariance",
+                                           "measurement_noise", "per_record_phase", "substeps", "max_rounds"});
+  s.use = use_from_string(l, "use", l.string_or("use", "always"));
+  if (estimator == "likelihood" && s.use != LikelihoodUse::Always)
+    l.fail("use", "contradicts estimator \"likelihood\"");
+  o.filter.input = enum_from_string(kInputInterpolationNames, l.string_or("input", "zoh"), l.where("input"));
+  o.select = l.boolean_or("select", true);
+  o.criterion = enum_from_string(likelihood::kSelectionCriterionNames, l.string_or("criterion", "bic"),
+                                 l.where("criterion"));
+  o.lr_alpha = l.number_or("lr_alpha", 1e-3);
+  o.covariance = enum_from_string(likelihood::kCovarianceNames, l.string_or("covariance", "observed"),
+                                  l.where("covariance"));
+  o.estimate_measurement_noise = l.boolean_or("measurement_noise", true);
+  o.per_record_phase = l.boolean_or("per_record_phase", false);
+  const long long sub = l.integer_at_least("substeps", 0, 0);
+  if (sub > 1000) l.fail("substeps", "must be <= 1000");
+  o.filter.substeps = static_cast<int>(sub);
+  o.max_rounds = static_cast<int>(l.integer_at_least("max_rounds", 1, 20));
+  std::string why;
+  if (!o.IsValid(&why)) throw Error(c.where("likelihood") + ": " + why);
+  return s;
+}
+
+void check_input_interpolation(InputInterpolation how, const Dataset& data, bool model_has_drive,
+                               const std::string& where) {
+  if (how == InputInterpolation::ZeroOrderHold) return;
+  const std::string name = enum_to_string(kInputInterpolationNames, how);
+  if (!model_has_drive)
+    throw Error(where + ": input \"" + name + "\" needs a model with a drive term 'u'");
+  if (!data.has_u()) throw Error(where + ": input \"" + name + "\" needs data with an input column");
+  const std::size_t need = how == InputInterpolation::BandLimited ? 16 : how == InputInterpolation::Cubic ? 4 : 2;
+  for (const auto& r : data.records)
+    if (r.size < need)
+      throw Error(where + ": input \"" + name + "\" needs records of at least " + std::to_string(need) +
+                  " samples; record " + std::to_string(r.id) + " of " + r.source + " has " + std::to_string(r.size));
+}
+
+Refinement refine_moment_fit(Model& model, const Dataset& data, const LikelihoodSettings& settings,
+                             const MomentFit& moment_fit) {
+  Refinement out;
+  out.adequacy = likelihood::assess_sampling(model, data);
+  const bool use = settings.use == LikelihoodUse::Always ||
+                   (settings.use == LikelihoodUse::Auto && !out.adequacy.vouched);
+  if (!use) return out;
+  likelihood::RefineOptions o = settings.options;
+  check_input_interpolation(o.filter.input, data, model.uses_drive(), "likelihood.input");
+  likelihood::ObservedModel start{model, 0.0, {}};
+  if (model.fit) start.measurement_sd = model.fit->sampling.sensor_noise_sd;
+  if (o.per_record_phase && !model.find_effect(EffectId::HarmonicForcing))
+    throw Error("likelihood.per_record_phase: the model has no harmonic_forcing effect (list it in 'effects')");
+  if (o.per_record_phase) per_record_start(start, data, moment_fit);
+  out.result = likelihood::refine(start, data, o);
+  const likelihood::Result& r = *out.result;
+  FitInfo fit = model.fit ? *model.fit : FitInfo{};
+  fit.input = o.filter.input;
+  LikelihoodFit lf;
+  lf.measurement_sd = r.model.measurement_sd;
+  lf.record_phases = r.model.record_phases;
+  lf.log_likelihood = r.log_likelihood;
+  lf.bic = r.bic;
+  lf.observations = r.summary.observations;
+  lf.substeps = r.summary.substeps;
+  lf.selection = o.select ? enum_to_string(likelihood::kSelectionCriterionNames, o.criterion) : "none";
+  lf.covariance_method = r.summary.covariance;
+  lf.converged = r.summary.converged;
+  lf.reason = settings.use == LikelihoodUse::Always ? "requested" : out.adequacy.reason;
+  const std::size_t k = r.parameters.size();
+  for (std::size_t i = 0; i < k; ++i) lf.parameters.push_back(r.parameters[i].name);
+  lf.values = r.values;
+  lf.covariance.resize(k * k);
+  for (std::size_t i = 0; i < k; ++i)
+    for (std::size_t j = 0; j < k; ++j) lf.covariance[i * k + j] = r.covariance(long(i), long(j));
+  fit.likelihood = std::move(lf);
+  model = r.model.model;
+  model.fit = std::move(fit);
+  return out;
+}
+
+}  // namespace vehs::tools

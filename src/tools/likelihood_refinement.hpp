@@ -1,0 +1,59 @@
+#pragma once
+// identify-vehs's likelihood step: the `likelihood` config block, the decision to refine the
+// moment fit by maximum likelihood (on request, or when vehs/likelihood/adequacy.hpp cannot
+// vouch for the expansions) and the refined model with its typed FitInfo::likelihood.
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "tools/config.hpp"
+#include "vehs/core/dataset.hpp"
+#include "vehs/core/model.hpp"
+#include "vehs/likelihood/adequacy.hpp"
+#include "vehs/likelihood/refine.hpp"
+
+namespace vehs::tools {
+
+enum class LikelihoodUse { Auto, Always, Never };
+
+struct LikelihoodSettings {
+  LikelihoodUse use = LikelihoodUse::Auto;
+  likelihood::RefineOptions options;
+};
+
+/// The help text of the `likelihood` key.
+extern const char* const kLikelihoodHelp;
+
+/// Settings from the config's `estimator` (\"likelihood\": always) and `likelihood` block
+/// (present: always unless its `use` says otherwise; absent: auto with estimator auto, never
+/// with an explicitly named moment estimator).
+LikelihoodSettings likelihood_settings(const Config& c);
+
+/// The estimator string for identify's moment fit ("likelihood" → "auto").
+std::string moment_estimator_name(const Config& c);
+
+struct Refinement {
+  likelihood::SamplingAdequacy adequacy;
+  std::optional<likelihood::Result> result;  ///< set when the likelihood was used
+};
+
+/// The moment fit of a data set (identify with the config's options), for per-record starts.
+using MomentFit = std::function<Model(const Dataset&)>;
+
+/// Refines `model` (identify's moment fit of `data`) when the settings ask for it or the
+/// sampling cannot be vouched for; on success `model` becomes the refined model with
+/// model.fit->likelihood and model.fit->input set. With per_record_phase, the start's phases,
+/// amplitude and omega come from `moment_fit` of every record on its own (the shared-phase fit
+/// of records started at unrelated times averages the forcing away): phases per record, the
+/// median amplitude and omega. Throws vehs::Error (one line) for a filter that diverges, an
+/// input the data cannot support, or invalid options.
+Refinement refine_moment_fit(Model& model, const Dataset& data, const LikelihoodSettings& settings,
+                             const MomentFit& moment_fit = {});
+
+/// Checks that `data` can carry `how`: an interpolated input needs an input column and records
+/// long enough for its stencil (cubic 4, band_limited 16 samples). Throws a one-line vehs::Error
+/// prefixed with `where`.
+void check_input_interpolation(InputInterpolation how, const Dataset& data, bool model_has_drive,
+                               const std::string& where);
+
+}  // namespace vehs::tools

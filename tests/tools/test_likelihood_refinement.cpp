@@ -1,0 +1,205 @@
+// identify-vehs with the likelihood (src/tools/likelihood_refinement.cpp) through the command
+// line: the rule that sends coarsely sampled data to the likelihood, the refined model file with
+// its "likelihood" section, and bad input (an input interpolation the data cannot carry, options
+// out of range) as one-line errors with nothing written.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "../likelihood/likelihood_fixtures.hpp"
+#include "stat_bounds.hpp"
+#include "tools/tools.hpp"
+#include "vehs/io/measurements.hpp"
+#include "vehs/io/model_file.hpp"
+#include "vehs/likelihood/adequacy.hpp"
+#include "vehs/sim/simulate.hpp"
+
+namespace fs = std::filesystem;
+using namespace vehs;
+
+namespace {
+
+fs::path work_dir() {
+  const fs::path p = fs::path(VEHS_BINARY_DIR) / "test_likelihood_tools_work";
+  fs::create_directories(p);
+  return p;
+}
+
+void write_text(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+int run_identify(const std::vector<std::string>& args, std::string* err = nullptr, std::string* out = nullptr) {
+  std::vector<std::string> a{"identify-vehs"};
+  a.insert(a.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& s : a) argv.push_back(s.data());
+  std::ostringstream e;
+  auto* old = std::cerr.rdbuf(e.rdbuf());
+  const int code = tools::identify_main(static_cast<int>(argv.size()), argv.data());
+  std::cerr.rdbuf(old);
+  if (err) *err = e.str();
+  (void)out;
+  return code;
+}
+
+using vehs_lik_test::bistable;
+
+/// The bistable Duffing of issue 12 sampled by a sensor at Δt (Taylor 1.5, 40 substeps).
+Dataset bistable_data(double dt, int records, double T, std::uint64_t seed) {
+  return vehs_lik_test::simulate(bistable(), dt, records, T, seed);
+}
+
+/// Writes `d` and a config with `keys` (besides data and output), runs identify-vehs and reads
+/// the model file, which the likelihood must have refined.
+ModelFile refined_fit(const Dataset& d, const std::string& name, const std::string& keys) {
+  const fs::path dir = work_dir();
+  const fs::path data = dir / (name + ".csv"), cfg = dir / (name + ".json"), out = dir / (name + "_model.json");
+  write_measurements(data.string(), d, WriteColumns{false, false, 17});
+  write_text(cfg, R"({"data": ")" + data.string() + R"(", "output": ")" + out.string() + "\", " + keys + "}");
+  fs::remove(out);
+  std::string err;
+  const int code = run_identify({cfg.string(), "--quiet"}, &err);
+  INFO(err);
+  REQUIRE(code == 0);
+  ModelFile f = read_model_file(out.string());
+  REQUIRE(f.model.fit);
+  REQUIRE(f.model.fit->likelihood);
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("the sampling rule: omega*dt from lag-1 and lag-2 increments, insensitive to sensor noise",
+          "[tools][likelihood]") {
+  // a pure cosine at omega*dt = 0.7 with 5 % white noise: the formula is exact for the cosine,
+  // and the noise enters both increments alike (deterministic up to the noise's sample
+  // variance: 20000 samples, relative error of the variances ~1 %, so a 0.02 band is > 10 sigma)
+  Dataset d;
+  Record r;
+  r.dt = 1.0;
+  r.size = 20000;
+  d.records.push_back(r);
+  std::mt19937_64 g(7);
+  std::normal_distribution<double> n(0.0, 0.05);
+  for (std::size_t k = 0; k < r.size; ++k) d.x.push_back(std::cos(0.7 * double(k)) + n(g));
+  CHECK(likelihood::dominant_omega_dt(d) == Approx(0.7).margin(0.02));
+  for (auto& x : d.x) x = std::cos(0.01 * double(&x - d.x.data()));
+  CHECK(likelihood::dominant_omega_dt(d) == Approx(0.01).margin(0.002));
+}
+
+TEST_CASE("identify-vehs: estimator auto at omega*dt 1.0 is refined by the likelihood; exact support and "
+          "estimates within their standard errors",
+          "[tools][likelihood][slow]") {
+  const ModelFile f = refined_fit(bistable_data(0.7, 4, 1000.0, 31), "auto",
+                                  R"("drift_library": ["1", "x", "x^2", "x^3", "y"], "diffusion_library": ["1"], "sparsity": "none")");
+  const LikelihoodFit& lf = *f.model.fit->likelihood;
+  CHECK(lf.reason.find("omega*dt") != std::string::npos);
+  CHECK(f.sections["estimator"]["refined"] == "likelihood");
+  CHECK(lf.selection == "bic");
+  CHECK(lf.covariance.size() == lf.parameters.size() * lf.parameters.size());
+  // support: the BIC drops 1 and x^2 (and the measurement noise: the data have none)
+  std::vector<std::string> support;
+  for (const auto& tc : f.model.drift)
+    if (tc.coef != 0.0) support.push_back(tc.term.name());
+  CHECK(support == std::vector<std::string>{"x", "x^3", "y"});
+  // four parameters against the truth (the likelihood's SEs are calibrated: coverage 96 % over
+  // 20 seeds at this sampling, bench/results/likelihood_synthetic.txt): Bonferroni over 4 z's,
+  // false-failure probability 1e-4 per run
+  const Model truth = bistable();
+  const double bound = vehs_test::z_bound(4);
+  for (const char* t : {"x", "x^3", "y"}) {
+    const double est = f.model.drift_coef(t), se = f.model.drift_stderr.at(t);
+    INFO(t << ": " << est << " +- " << se);
+    CHECK(std::abs(est - truth.drift_coef(t)) <= bound * se);
+  }
+  const double d_est = f.model.diffusion_coef("1"), d_se = f.model.diffusion_stderr.at("1");
+  CHECK(std::abs(d_est - 0.04) <= bound * d_se);
+}
+
+TEST_CASE("identify-vehs: finely sampled data stay with the moment fit under estimator auto", "[tools][likelihood]") {
+  const fs::path dir = work_dir();
+  const Dataset d = bistable_data(0.02, 2, 400.0, 5);
+  const fs::path data = dir / "bistable002.csv", cfg = dir / "fine.json", out = dir / "fine_model.json";
+  write_measurements(data.string(), d, WriteColumns{false, false, 17});
+  write_text(cfg, R"({"data": ")" + data.string() + R"(", "output": ")" + out.string() +
+                      R"(", "drift_library": ["1", "x", "x^2", "x^3", "y"], "diffusion_library": ["1"]})");
+  REQUIRE(run_identify({cfg.string(), "--quiet"}) == 0);
+  const ModelFile f = read_model_file(out.string());
+  REQUIRE(f.model.fit);
+  CHECK(!f.model.fit->likelihood);
+  CHECK(!f.sections.contains("likelihood"));
+}
+
+TEST_CASE("identify-vehs: bad likelihood settings and unsupported input interpolations fail with one line, "
+          "nothing written",
+          "[tools][likelihood][errors]") {
+  const fs::path dir = work_dir();
+  const Dataset d = bistable_data(0.7, 1, 300.0, 9);
+  const fs::path data = dir / "small.csv", out = dir / "never.json";
+  write_measurements(data.string(), d, WriteColumns{false, false, 17});
+  const std::string head = R"({"data": ")" + data.string() + R"(", "output": ")" + out.string() +
+                           R"(", "drift_library": ["x", "x^3", "y"], "diffusion_library": ["1"], )";
+  struct Case { const char* tail; const char* message; };
+  const Case cases[] = {
+      {R"("likelihood": {"input": "cubic"}})", "input \"cubic\" needs a model with a drive term 'u'"},
+      {R"("likelihood": {"input": "spline"}})", "likelihood.input"},
+      {R"("likelihood": {"covariance": "hessian"}})", "likelihood.covariance"},
+      {R"("likelihood": {"per_record_phase": true}})", "no harmonic_forcing effect"},
+      {R"("likelihood": {"use": "never"}, "estimator": "likelihood"})", "contradicts estimator"},
+      {R"("likelihood": {"lr_alpha": 2}})", "lr_alpha"},
+      {R"("samples": [10, 20000]})", "but the record has"},
+      {R"("samples": [0, 5]})", "'samples' must be [first, last]"},
+  };
+  for (const auto& c : cases) {
+    CAPTURE(c.tail);
+    const fs::path cfg = dir / "bad_lik.json";
+    write_text(cfg, head + c.tail);
+    fs::remove(out);
+    std::string err;
+    CHECK(run_identify({cfg.string(), "--quiet"}, &err) == 1);
+    CHECK(err.find(c.message) != std::string::npos);
+    CHECK(std::count(err.begin(), err.end(), '\n') == 1);
+    CHECK(!fs::exists(out));
+  }
+}
+
+TEST_CASE("identify-vehs: harmonic forcing with one phase per record (amplitude and omega shared) by the likelihood",
+          "[tools][likelihood][effects][slow]") {
+  // four records started at unrelated times: phases the fit never sees
+  const double phases[] = {-2.5, -0.4, 1.1, 2.9};
+  Dataset d;
+  for (int r = 0; r < 4; ++r) {
+    Model m = bistable();
+    Effect h;
+    h.id = EffectId::HarmonicForcing;
+    h.params = {{"amplitude", 0.12}, {"omega", 0.8}, {"phase", phases[r]}};
+    add_effect(m, h, "test");
+    d.append(vehs_lik_test::simulate(m, 0.25, 1, 1000.0, 77 + std::uint64_t(r), 0.01));
+    d.records.back().id = r;  // the traj column
+  }
+  const ModelFile f = refined_fit(d, "phases", R"("drift_library": ["x", "x^3", "y"], "diffusion_library": ["1"], "sparsity": "none",
+      "effects": ["harmonic_forcing"], "likelihood": {"per_record_phase": true, "select": false})");
+  const LikelihoodFit& lf = *f.model.fit->likelihood;
+  REQUIRE(lf.record_phases.size() == 4);
+  const Effect* h = f.model.find_effect(EffectId::HarmonicForcing);
+  REQUIRE(h);
+  // amplitude, omega and the four phases against the truth, Bonferroni over 6 z's (the
+  // likelihood's SEs are calibrated: bench/results/likelihood_effects.txt), false-failure
+  // probability 1e-4 per run
+  const double bound = vehs_test::z_bound(6);
+  INFO("amplitude " << h->params.at("amplitude") << " +- " << h->stderr_.at("amplitude") << ", omega "
+                    << h->params.at("omega") << " +- " << h->stderr_.at("omega"));
+  CHECK(std::abs(h->params.at("amplitude") - 0.12) <= bound * h->stderr_.at("amplitude"));
+  CHECK(std::abs(h->params.at("omega") - 0.8) <= bound * h->stderr_.at("omega"));
+  const std::size_t k = lf.parameters.size();
+  for (std::size_t r = 0; r < 4; ++r) {
+    const auto it = std::find(lf.parameters.begin(), lf.parameters.end(), "phase[" + std::to_string(r) + "]");
+    REQUIRE(it != lf.parameters.end());
+    const std::size_t i = std::size_t(it - lf.parameters.begin());
+    const double se = std::sqrt(lf.covariance[i * k + i]);
+    INFO("phase " << r << ": " << lf.record_phases[r] << " +- " << se << " (true " << phases[r] << ")");
+    CHECK(std::abs(std::remainder(lf.record_phases[r] - phases[r], 2 * M_PI)) <= bound * se);
+  }
+}
