@@ -35,10 +35,27 @@ using detail::fmt;
 constexpr double kTiny = 1e-300;  // a drift/diffusion coefficient "at 0" that stays a free parameter
 constexpr double kZ90 = 1.2815515655446004;  // Φ⁻¹(0.9)
 
-double z_of_p(double p) {
-  if (!(p < 0.5)) return 0.0;
-  if (!(p > 1e-300)) return 38.0;
-  return std::min(normal_isf(p), 38.0);
+/// log P(N(0,1) > z), without underflow far in the tail.
+double log_normal_sf(double z) {
+  if (z < 8.0) return std::log(normal_sf(z));
+  return -0.5 * z * z - std::log(z) - 0.5 * std::log(2.0 * M_PI) + std::log1p(-1.0 / (z * z));
+}
+
+/// log P(χ²_k > x): exact where it does not underflow, else the Wilson–Hilferty normal tail.
+double log_chi2_sf(double x, double k) {
+  const double p = chi2_sf(x, k);
+  if (p > 1e-280) return std::log(p);
+  const double a = 2.0 / (9.0 * k);
+  return log_normal_sf((std::cbrt(x / k) - (1.0 - a)) / std::sqrt(a));
+}
+
+/// The z with log P(N(0,1) > z) = log_p (≥ 0; 0 for p ≥ 1/2).
+double z_of_log_p(double log_p) {
+  if (!(log_p < std::log(0.5))) return 0.0;
+  if (log_p > -600.0) return normal_isf(std::exp(log_p));
+  double z = std::sqrt(-2.0 * log_p);  // Newton on the asymptotic tail
+  for (int i = 0; i < 8; ++i) z -= (log_normal_sf(z) - log_p) / (-z - 1.0 / z);
+  return z;
 }
 
 /// rms(ẋ)/rms(x) over the data (finite differences, record means removed): a typical frequency.
@@ -86,97 +103,122 @@ struct Context {
   const ScoreSuspectOptions& options;
   double omega_bar;
   likelihood::ScoreTestOptions test_options;
+  Dataset pilot;  ///< the leading quarter of the records, where the scans choose (empty: all data)
 };
 
-likelihood::ScoreTestResult run(const Context& c, const Model& m, const std::vector<std::string>& tested,
-                                const std::vector<std::string>& fixed) {
-  likelihood::ObservedModel om{m, c.measurement_sd, {}};
-  likelihood::ScoreTestOptions o = c.test_options;
-  o.fixed = fixed;
-  return likelihood::score_test(om, c.data, tested, o);
-}
-
-/// Term-like effect: its coefficients at 0 in the drift / diffusion.
-ScoreSuspect term_effect(const Context& c, EffectId id) {
-  const EffectSpec& spec = effect_spec(id);
-  Model m = c.model;
+/// Term-like effects: their coefficients at 0 in the drift / diffusion, all from one filter pass
+/// (each tested against the model's own terms, the other candidates held at 0).
+std::vector<ScoreSuspect> term_effects(const Context& c, const std::vector<EffectId>& ids,
+                                       std::vector<std::pair<std::string, std::string>>& untested) {
   struct Slot {
     std::string param, name;
     double sign;
   };
-  std::vector<Slot> slots;
-  for (const auto& ps : spec.params) {
-    Effect e{id, {{std::string(ps.name), 1.0}}, {}};
-    const EffectTerms t = effect_terms(e);
-    const bool drift = !t.drift.empty();
-    const TermCoef& tc = drift ? t.drift.front() : t.diffusion.front();
-    TermList& list = drift ? m.drift : m.diffusion;
-    if (coefficient(list, tc.term) != 0.0) continue;  // already in the model
-    list.push_back({tc.term, kTiny * tc.coef});
-    slots.push_back({std::string(ps.name), std::string(drift ? "drift[" : "diffusion[") + tc.term.name() + "]",
-                     tc.coef});
+  Model m = c.model;
+  std::vector<std::vector<Slot>> slots;
+  std::vector<EffectId> tested_ids;
+  for (const EffectId id : ids) {
+    std::vector<Slot> mine;
+    for (const auto& ps : effect_spec(id).params) {
+      Effect e{id, {{std::string(ps.name), 1.0}}, {}};
+      const EffectTerms t = effect_terms(e);
+      const bool drift = !t.drift.empty();
+      const TermCoef& tc = drift ? t.drift.front() : t.diffusion.front();
+      TermList& list = drift ? m.drift : m.diffusion;
+      if (coefficient(list, tc.term) != 0.0) continue;  // already in the model
+      list.push_back({tc.term, kTiny * tc.coef});
+      mine.push_back({std::string(ps.name), std::string(drift ? "drift[" : "diffusion[") + tc.term.name() + "]",
+                      tc.coef});
+    }
+    if (mine.empty()) {
+      untested.emplace_back(std::string(effect_spec(id).name), "its terms are already in the model");
+      continue;
+    }
+    slots.push_back(std::move(mine));
+    tested_ids.push_back(id);
   }
-  if (slots.empty()) throw Error("its terms are already in the model");
+  std::vector<ScoreSuspect> out;
+  if (slots.empty()) return out;
   canonicalize(m.drift, "score suspects");
   canonicalize(m.diffusion, "score suspects");
-  std::vector<std::string> tested;
-  for (const auto& s : slots) tested.push_back(s.name);
-  const likelihood::ScoreTestResult r = run(c, m, tested, {});
-  ScoreSuspect s;
-  s.effect = spec.name;
-  s.statistic = r.statistic;
-  s.dof = r.dof;
-  s.add = add_fragment(spec.name);
-  for (std::size_t i = 0; i < slots.size(); ++i) {
-    s.params[slots[i].param] = r.estimate[i] / slots[i].sign;
-    s.params_stderr[slots[i].param] = r.stderrs[i];
+  std::vector<std::vector<std::string>> groups;
+  for (const auto& g : slots) {
+    groups.emplace_back();
+    for (const auto& sl : g) groups.back().push_back(sl.name);
   }
-  const bool signed_param = slots.size() == 1 && spec.params.front().lower_bound >= 0.0;
-  if (signed_param) {
-    const double z = r.z * slots[0].sign;  // z of the effect's parameter (μ, c, q ≥ 0)
-    s.statistic = z;
-    s.p_value = normal_sf(z);
-    s.test = "score test of " + slots[0].param + " = 0 (one-sided normal)";
-  } else {
-    s.p_value = r.dof > 0 ? chi2_sf(r.statistic, r.dof) : 1.0;
-    s.test = "score test of " + std::to_string(slots.size()) + " coefficients = 0 (chi2, " +
-             std::to_string(r.dof) + " dof)";
+  likelihood::ObservedModel om{m, c.measurement_sd, {}};
+  const std::vector<likelihood::ScoreTestResult> rs = likelihood::score_tests(om, c.data, groups, c.test_options);
+  for (std::size_t k = 0; k < rs.size(); ++k) {
+    const EffectSpec& spec = effect_spec(tested_ids[k]);
+    const likelihood::ScoreTestResult& r = rs[k];
+    const std::vector<Slot>& sl = slots[k];
+    ScoreSuspect s;
+    s.effect = spec.name;
+    s.statistic = r.statistic;
+    s.dof = r.dof;
+    s.add = add_fragment(spec.name);
+    for (std::size_t i = 0; i < sl.size(); ++i) {
+      s.params[sl[i].param] = r.estimate[i] / sl[i].sign;
+      s.params_stderr[sl[i].param] = r.stderrs[i];
+    }
+    const bool signed_param = sl.size() == 1 && spec.params.front().lower_bound >= 0.0;
+    if (signed_param) {
+      const double z = r.z * sl[0].sign;  // z of the effect's parameter (μ, c, q ≥ 0)
+      s.statistic = z;
+      s.log_p = log_normal_sf(z);
+      s.test = "score test of " + sl[0].param + " = 0 (one-sided normal)";
+    } else {
+      s.log_p = r.dof > 0 ? log_chi2_sf(r.statistic, r.dof) : 0.0;
+      s.test = "score test of " + std::to_string(sl.size()) + " coefficients = 0 (chi2, " + std::to_string(r.dof) +
+               " dof)";
+    }
+    out.push_back(std::move(s));
   }
-  return s;
+  return out;
 }
 
 /// Effect whose own parameter `tested` (k_stop, coupling, intensity) vanishes under the null,
-/// with a parameter `scan` not identified there: the largest z over the grid, Bonferroni.
+/// with a parameter `scan` not identified there. The grid point is chosen on the leading quarter
+/// of the records (all of them when there are fewer than 8) and tested on all the data, with a
+/// Bonferroni correction over the grid: the chosen point's statistic is one of the grid's, so
+/// P(it exceeds c) ≤ P(the grid's largest exceeds c) ≤ grid · P(one exceeds c).
 ScoreSuspect scanned_effect(const Context& c, EffectId id, const std::string& tested,
-                            const std::string& scan, const std::vector<double>& grid,
-                            const std::map<std::string, double>& fixed_values) {
-  ScoreSuspect best;
-  best.statistic = -std::numeric_limits<double>::infinity();
+                            const std::string& scan, const std::vector<double>& grid) {
   const std::string name = enum_to_string(kEffectNames, id);
-  for (double g : grid) {
+  auto test_at = [&](double g, const Dataset& data) {
     Model m = c.model;
-    Effect e{id, fixed_values, {}};
+    Effect e{id, {}, {}};
     e.params[tested] = 0.0;
     e.params[scan] = g;
     if (id == EffectId::ImpactStop) e.params["gap_neg"] = g;
     m.effects.push_back(e);
-    std::vector<std::string> fixed;
+    likelihood::ScoreTestOptions o = c.test_options;
     for (const auto& ps : effect_spec(id).params)
-      if (std::string(ps.name) != tested) fixed.push_back(name + "." + std::string(ps.name));
-    const likelihood::ScoreTestResult r = run(c, m, {name + "." + tested}, fixed);
-    if (r.z > best.statistic) {
-      best.statistic = r.z;
-      best.params = {{tested, r.estimate[0]}, {scan, g}};
-      best.params_stderr = {{tested, r.stderrs[0]}};
+      if (std::string(ps.name) != tested) o.fixed.push_back(name + "." + std::string(ps.name));
+    likelihood::ObservedModel om{m, c.measurement_sd, {}};
+    return likelihood::score_test(om, data, {name + "." + tested}, o);
+  };
+  double best_g = grid.front();
+  if (grid.size() > 1) {
+    const Dataset& pilot = c.pilot.records.empty() ? c.data : c.pilot;
+    double best = -std::numeric_limits<double>::infinity();
+    for (double g : grid) {
+      const double z = test_at(g, pilot).z;
+      if (z > best) best = z, best_g = g;
     }
   }
-  best.effect = name;
-  best.scanned = int(grid.size());
-  best.p_value = std::min(1.0, normal_sf(best.statistic) * double(grid.size()));
-  best.test = "score test of " + tested + " = 0, largest z over " + std::to_string(grid.size()) + " values of " +
-              scan + " (one-sided normal, Bonferroni)";
-  best.add = add_fragment(name);
-  return best;
+  const likelihood::ScoreTestResult r = test_at(best_g, c.data);
+  ScoreSuspect s;
+  s.effect = name;
+  s.statistic = r.z;
+  s.params = {{tested, r.estimate[0]}, {scan, best_g}};
+  s.params_stderr = {{tested, r.stderrs[0]}};
+  s.scanned = int(grid.size());
+  s.log_p = std::min(0.0, log_normal_sf(r.z) + std::log(double(grid.size())));
+  s.test = "score test of " + tested + " = 0 at the " + scan + " chosen on the leading records among " +
+           std::to_string(grid.size()) + " values (one-sided normal, Bonferroni over them)";
+  s.add = add_fragment(name);
+  return s;
 }
 
 /// The harmonic-forcing scans on the whitened innovations of the model's filter.
@@ -241,7 +283,7 @@ std::pair<ScoreSuspect, ScoreSuspect> forcing_scans(const Context& c) {
     s.statistic = stat;
     s.dof = dof;
     s.scanned = int(independent);
-    s.p_value = std::min(1.0, chi2_sf(stat, dof) * independent);
+    s.log_p = std::min(0.0, log_chi2_sf(stat, dof) + std::log(independent));
     s.test = what + ", largest over " + std::to_string(int(independent)) + " frequencies up to " +
              fmt(omega_max, 3) + " rad/time (Bonferroni)";
     s.params["omega"] = om_peak;
@@ -274,10 +316,17 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
   const Dataset& data = limit ? limited : all;
   rep.samples = data.total_samples();
   rep.records = data.records.size();
-  Context c{model, data, measurement_sd, options, typical_frequency(data), {}};
+  Context c{model, data, measurement_sd, options, typical_frequency(data), {}, {}};
   c.test_options.filter.threads = options.threads;
   c.test_options.estimate_measurement_noise = measurement_sd > 0.0;
 
+  if (data.records.size() >= 8) {
+    const std::size_t quarter = data.total_samples() / 4;
+    c.pilot = leading_samples(data, [&](std::size_t, const Record& r, std::size_t taken) {
+      return taken >= quarter ? kEndSelection : r.size;
+    });
+  }
+  std::vector<EffectId> term_ids;
   std::vector<std::function<ScoreSuspect()>> jobs;
   std::vector<std::string> names;
   auto untested = [&](const std::string& e, const std::string& why) { rep.untested.emplace_back(e, why); };
@@ -288,13 +337,14 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
       continue;
     }
     if (spec.term_like) {
-      jobs.push_back([&c, id = spec.id] { return term_effect(c, id); });
+      term_ids.push_back(spec.id);
+      continue;
     } else if (spec.id == EffectId::ImpactStop) {
       std::vector<double> grid;
       const double qs[] = {0.6, 0.75, 0.85, 0.92, 0.96, 0.98, 0.99, 0.995};
-      const int n = std::min(options.grid + 2, 8);
+      const int n = std::min(options.grid, 8);
       for (int i = 8 - n; i < 8; ++i) grid.push_back(quantile_abs(data, qs[i]));
-      jobs.push_back([&c, grid] { return scanned_effect(c, EffectId::ImpactStop, "k_stop", "gap", grid, {}); });
+      jobs.push_back([&c, grid] { return scanned_effect(c, EffectId::ImpactStop, "k_stop", "gap", grid); });
     } else if (spec.id == EffectId::ElectromechanicalCoupling || spec.id == EffectId::ColoredNoise) {
       const bool electro = spec.id == EffectId::ElectromechanicalCoupling;
       std::vector<double> grid;  // λ (rate) or τ (time), log-spaced around ω̄ (1/ω̄)
@@ -307,8 +357,8 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
         for (double& t : grid) t = std::max(t, 2.0 * dt);
       }
       jobs.push_back([&c, grid, electro] {
-        return electro ? scanned_effect(c, EffectId::ElectromechanicalCoupling, "coupling", "lambda", grid, {})
-                       : scanned_effect(c, EffectId::ColoredNoise, "intensity", "tau", grid, {});
+        return electro ? scanned_effect(c, EffectId::ElectromechanicalCoupling, "coupling", "lambda", grid)
+                       : scanned_effect(c, EffectId::ColoredNoise, "intensity", "tau", grid);
       });
     } else if (spec.id == EffectId::HarmonicForcing) {
       continue;  // below (one scan gives both forms)
@@ -319,6 +369,16 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
     names.push_back(name);
   }
   try {
+    if (!term_ids.empty()) {
+      try {
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<ScoreSuspect> terms = term_effects(c, term_ids, rep.untested);
+        const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        for (auto& t : terms) t.seconds = sec, rep.ranked.push_back(std::move(t));
+      } catch (const std::exception& e) {
+        for (const EffectId id : term_ids) untested(std::string(effect_spec(id).name), e.what());
+      }
+    }
     for (std::size_t j = 0; j < jobs.size(); ++j) {
       try {
         const auto t0 = std::chrono::steady_clock::now();
@@ -345,8 +405,9 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
   const double tested = std::max<double>(1.0, double(rep.ranked.size()));
   rep.threshold = options.alpha / tested;
   for (auto& s : rep.ranked) {
-    s.z = z_of_p(s.p_value);
-    s.significant = s.p_value < rep.threshold;
+    s.p_value = std::exp(s.log_p);
+    s.z = z_of_log_p(s.log_p);
+    s.significant = s.log_p < std::log(rep.threshold);
     s.null_claim_rate = rep.threshold;
     if (s.effect == "harmonic_forcing" || s.effect == "harmonic_forcing_per_record") {
       // power of the same scan against the fitted line: noncentral χ² with λ = the excess
@@ -366,7 +427,7 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
     }
   }
   std::stable_sort(rep.ranked.begin(), rep.ranked.end(), [](const ScoreSuspect& a, const ScoreSuspect& b) {
-    if (a.p_value != b.p_value) return a.p_value < b.p_value;
+    if (a.log_p != b.log_p) return a.log_p < b.log_p;
     return a.statistic / a.dof > b.statistic / b.dof;
   });
   return rep;

@@ -36,61 +36,40 @@ Eigen::MatrixXd pseudo_inverse(const Eigen::MatrixXd& A, int& rank) {
 
 }  // namespace
 
-ScoreTestResult score_test(const ObservedModel& model, const Dataset& data,
-                           const std::vector<std::string>& tested, const ScoreTestOptions& options) {
-  const std::string where = "score test";
-  if (tested.empty()) throw Error(where + ": no parameter to test");
-  if (const std::string why = options.filter.invalid_reason(); !why.empty())
-    throw Error(where + ": " + why);
-  detail::FitChoice choice;
-  choice.fit_measurement_noise = options.estimate_measurement_noise && model.measurement_sd > 0.0;
-  choice.fixed = options.fixed;
-  choice.natural_scale = tested;
-  const detail::Parameterization p(model, choice, data.records.size(), where);
-  detail::Evaluator ev(p, data, options.filter, where);
-  ev.batch_samples = 0;  // one batch per record
-  // indices of the tested parameters (ψ) and of the nuisance ones (θ) in the parameter vector
-  std::vector<Eigen::Index> psi, theta;
-  for (const auto& name : tested) {
-    const auto& ps = p.parameters();
-    auto it = std::find_if(ps.begin(), ps.end(), [&](const ParameterInfo& q) { return q.name == name; });
-    if (it == ps.end()) throw Error(where + ": '" + name + "' is not a free parameter of the model");
-    psi.push_back(Eigen::Index(it - ps.begin()));
-  }
-  for (Eigen::Index i = 0; i < Eigen::Index(p.size()); ++i)
-    if (std::find(psi.begin(), psi.end(), i) == psi.end()) theta.push_back(i);
+namespace {
 
-  detail::Derivatives d;
-  detail::EvaluationFailure f;
-  if (!ev.derivatives(p.initial().data(), d, true, true, &f)) throw Error(ev.message(f));
+/// The C(α) test of the parameters `psi` against the nuisance ones `theta` (indices into the
+/// parameter vector) from one derivative pass.
+ScoreTestResult efficient_test(const detail::Parameterization& p, const detail::Derivatives& d,
+                               const std::vector<Eigen::Index>& psi, const std::vector<Eigen::Index>& theta) {
   const Eigen::MatrixXd& F = d.fisher;
   const Eigen::VectorXd& g = d.gradient;
   const Eigen::Index np = Eigen::Index(psi.size()), nt = Eigen::Index(theta.size());
+  auto at = [](const std::vector<Eigen::Index>& v, Eigen::Index i) { return v[std::size_t(i)]; };
   Eigen::MatrixXd Fpp(np, np), Fpt(np, nt), Ftt(nt, nt);
   Eigen::VectorXd gp(np), gt(nt);
   for (Eigen::Index a = 0; a < np; ++a) {
-    gp(a) = g(psi[std::size_t(a)]);
-    for (Eigen::Index b = 0; b < np; ++b) Fpp(a, b) = F(psi[std::size_t(a)], psi[std::size_t(b)]);
-    for (Eigen::Index b = 0; b < nt; ++b) Fpt(a, b) = F(psi[std::size_t(a)], theta[std::size_t(b)]);
+    gp(a) = g(at(psi, a));
+    for (Eigen::Index b = 0; b < np; ++b) Fpp(a, b) = F(at(psi, a), at(psi, b));
+    for (Eigen::Index b = 0; b < nt; ++b) Fpt(a, b) = F(at(psi, a), at(theta, b));
   }
   for (Eigen::Index a = 0; a < nt; ++a) {
-    gt(a) = g(theta[std::size_t(a)]);
-    for (Eigen::Index b = 0; b < nt; ++b) Ftt(a, b) = F(theta[std::size_t(a)], theta[std::size_t(b)]);
+    gt(a) = g(at(theta, a));
+    for (Eigen::Index b = 0; b < nt; ++b) Ftt(a, b) = F(at(theta, a), at(theta, b));
   }
   int rank_t = 0;
   const Eigen::MatrixXd A = nt > 0 ? Eigen::MatrixXd(Fpt * pseudo_inverse(Ftt, rank_t))
                                    : Eigen::MatrixXd(np, 0);  // F_ψθ F_θθ⁻¹
-
   ScoreTestResult r;
-  r.tested = tested;
+  for (Eigen::Index a = 0; a < np; ++a) r.tested.push_back(p.parameters()[std::size_t(at(psi, a))].name);
   r.efficient_score = nt > 0 ? Eigen::VectorXd(gp - A * gt) : gp;
   r.efficient_information = nt > 0 ? Eigen::MatrixXd(Fpp - A * Fpt.transpose()) : Fpp;
-  const Eigen::MatrixXd& B = d.batch_scores;  // records × parameters (internal scale)
+  const Eigen::MatrixXd& B = d.batch_scores;  // records × parameters
   r.record_scores.resize(B.rows(), np);
   for (Eigen::Index k = 0; k < B.rows(); ++k) {
     Eigen::VectorXd bp(np), bt(nt);
-    for (Eigen::Index a = 0; a < np; ++a) bp(a) = B(k, psi[std::size_t(a)]);
-    for (Eigen::Index a = 0; a < nt; ++a) bt(a) = B(k, theta[std::size_t(a)]);
+    for (Eigen::Index a = 0; a < np; ++a) bp(a) = B(k, at(psi, a));
+    for (Eigen::Index a = 0; a < nt; ++a) bt(a) = B(k, at(theta, a));
     r.record_scores.row(k) = (nt > 0 ? Eigen::VectorXd(bp - A * bt) : bp).transpose();
   }
   const Eigen::MatrixXd Vinv = pseudo_inverse(r.efficient_information, r.dof);
@@ -99,15 +78,64 @@ ScoreTestResult score_test(const ObservedModel& model, const Dataset& data,
     r.z = r.efficient_score(0) / std::sqrt(r.efficient_information(0, 0));
   const Eigen::VectorXd step = Vinv * r.efficient_score;
   for (Eigen::Index a = 0; a < np; ++a) {
-    const double v0 = p.initial()[std::size_t(psi[std::size_t(a)])];
+    const double v0 = p.initial()[std::size_t(at(psi, a))];
     r.null_value.push_back(v0);
     r.estimate.push_back(v0 + step(a));
     r.stderrs.push_back(Vinv(a, a) > 0.0 ? std::sqrt(Vinv(a, a)) : 0.0);
   }
   r.log_likelihood = d.log_likelihood;
-  r.observations = ev.observations();
-  r.substeps = ev.settings().substeps;
   return r;
+}
+
+}  // namespace
+
+std::vector<ScoreTestResult> score_tests(const ObservedModel& model, const Dataset& data,
+                                         const std::vector<std::vector<std::string>>& groups,
+                                         const ScoreTestOptions& options) {
+  const std::string where = "score test";
+  std::vector<std::string> all;
+  for (const auto& g : groups) {
+    if (g.empty()) throw Error(where + ": an empty group of parameters to test");
+    all.insert(all.end(), g.begin(), g.end());
+  }
+  if (all.empty()) throw Error(where + ": no parameter to test");
+  if (const std::string why = options.filter.invalid_reason(); !why.empty())
+    throw Error(where + ": " + why);
+  detail::FitChoice choice;
+  choice.fit_measurement_noise = options.estimate_measurement_noise && model.measurement_sd > 0.0;
+  choice.fixed = options.fixed;
+  choice.natural_scale = all;
+  const detail::Parameterization p(model, choice, data.records.size(), where);
+  detail::Evaluator ev(p, data, options.filter, where);
+  ev.batch_samples = 0;  // one batch per record
+  auto index_of = [&](const std::string& name) {
+    const auto& ps = p.parameters();
+    auto it = std::find_if(ps.begin(), ps.end(), [&](const ParameterInfo& q) { return q.name == name; });
+    if (it == ps.end()) throw Error(where + ": '" + name + "' is not a free parameter of the model");
+    return Eigen::Index(it - ps.begin());
+  };
+  std::vector<Eigen::Index> tested;
+  for (const auto& name : all) tested.push_back(index_of(name));
+  detail::Derivatives d;
+  detail::EvaluationFailure f;
+  if (!ev.derivatives(p.initial().data(), d, true, true, &f)) throw Error(ev.message(f));
+  std::vector<ScoreTestResult> out;
+  for (const auto& g : groups) {
+    // this group against the model's own parameters; the other groups stay at their null
+    std::vector<Eigen::Index> psi, theta;
+    for (const auto& name : g) psi.push_back(index_of(name));
+    for (Eigen::Index i = 0; i < Eigen::Index(p.size()); ++i)
+      if (std::find(tested.begin(), tested.end(), i) == tested.end()) theta.push_back(i);
+    out.push_back(efficient_test(p, d, psi, theta));
+    out.back().observations = ev.observations();
+    out.back().substeps = ev.settings().substeps;
+  }
+  return out;
+}
+
+ScoreTestResult score_test(const ObservedModel& model, const Dataset& data,
+                           const std::vector<std::string>& tested, const ScoreTestOptions& options) {
+  return score_tests(model, data, {tested}, options).front();
 }
 
 }  // namespace vehs::likelihood

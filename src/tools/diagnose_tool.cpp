@@ -82,7 +82,7 @@ const ConfigSchema& diagnose_schema() {
            "4e6"},
           {"score_suspects", "bool | object",
            "Likelihood score tests of every effect the model lacks, on all the data: true/false, or {\"grid\": 6 "
-           "(values of a gap, lambda or tau scanned), \"max_samples\": 2e6 (whole records up to this many "
+           "(values of a gap, lambda or tau scanned), \"max_samples\": 2.5e5 (whole records up to this many "
            "samples; 0: all), \"forcing_band\": 6 (harmonic forcing scanned up to this multiple of the data's "
            "typical frequency)}.",
            "true"},
@@ -154,6 +154,7 @@ diagnose::Options diagnose_options(const Config& c) {
     }
   }
   o.suspect_samples = c.non_negative_or("suspect_samples", 4e6);
+  o.score_suspects.enabled = true;  // the product runs them (the library's default is off)
   if (c.has("score_suspects")) {
     const auto& v = c.raw("score_suspects");
     if (v.is_boolean()) {
@@ -163,7 +164,7 @@ diagnose::Options diagnose_options(const Config& c) {
       o.score_suspects.enabled = s.boolean_or("enabled", true);
       o.score_suspects.grid = static_cast<int>(s.integer_at_least("grid", 1, 6));
       if (o.score_suspects.grid > 64) s.fail("grid", "must be <= 64");
-      o.score_suspects.max_samples = s.non_negative_or("max_samples", 2e6);
+      o.score_suspects.max_samples = s.non_negative_or("max_samples", 2.5e5);
       o.score_suspects.forcing_band = s.positive_or("forcing_band", 6.0);
     } else {
       c.fail("score_suspects", "must be true, false or an object");

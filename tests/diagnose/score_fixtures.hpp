@@ -89,7 +89,7 @@ inline std::vector<HiddenCase> hidden_cases() {
   }
   {
     HiddenCase c = make("quadratic_damping", Potential::Tristable, 0.1, 0.05);
-    c.extra_drift = R"J("y|y|": -0.3)J";
+    c.extra_drift = R"J("y*|y|": -0.3)J";
     add(c);
   }
   {
@@ -130,6 +130,19 @@ inline std::vector<HiddenCase> hidden_cases() {
     add(c);
   }
   return v;
+}
+
+/// The likelihood's name of the hidden effect's parameter (the oracle's z is taken of it).
+inline std::string oracle_parameter(const HiddenCase& c) {
+  if (c.name == "coulomb_friction") return "drift[sign(y)]";
+  if (c.name == "quadratic_damping") return "drift[y*|y|]";
+  if (c.name == "nonlinear_damping") return "drift[y^3]";
+  if (c.name == "velocity_dependent_noise") return "diffusion[y^2]";
+  if (c.name == "colored_noise") return "colored_noise.intensity";
+  if (c.name == "electromechanical_coupling") return "electromechanical_coupling.coupling";
+  if (c.name == "impact_stop") return "impact_stop.k_stop";
+  if (c.name.rfind("harmonic_forcing", 0) == 0) return "harmonic_forcing.amplitude";
+  return "";
 }
 
 /// The records of a hidden case: one simulation per record when the phase is random per record.

@@ -107,8 +107,9 @@ struct Options {
   /// effects are the slowest part of a run; 0: all data).
   double suspect_samples = 4e6;
   /// The likelihood's score tests of every effect the model lacks, on all the data (up to
-  /// score_suspects.max_samples): score_suspects.hpp; a component of the verdict.
-  ScoreSuspectOptions score_suspects;
+  /// score_suspects.max_samples): score_suspects.hpp; a component of the verdict when enabled.
+  /// Off by default in the library (diagnose-vehs turns it on): it costs a few filter passes.
+  ScoreSuspectOptions score_suspects{false};
   ProgressCallback progress;           ///< tasks "diagnose", "parameter draws", "suspects"; empty: none
 
   std::string invalid_reason() const;

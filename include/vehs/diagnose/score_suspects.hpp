@@ -46,7 +46,7 @@ struct ScoreSuspectOptions {
   double alpha = 0.01;          ///< family-wise level of a claim (Bonferroni over the effects)
   int grid = 6;                 ///< points of the vanishing parameter's grid
   double forcing_band = 6.0;    ///< harmonic forcing scanned up to this multiple of ω̄
-  double max_samples = 2e6;     ///< whole records, in order, up to this many samples (0: all)
+  double max_samples = 2.5e5;   ///< whole records, in order, up to this many samples (0: all)
   int threads = 0;              ///< 0: the OpenMP default
   std::string invalid_reason() const;
 };
@@ -56,8 +56,9 @@ struct ScoreSuspect {
   std::string test;             ///< one line: the statistic and its law
   double statistic = 0.0, dof = 1.0;
   int scanned = 1;              ///< points of the scan behind the p-value
-  double p_value = 1.0;         ///< after the scan's correction
-  double z = 0.0;               ///< Φ⁻¹(1 − p), in [0, 38] (0: no evidence at all)
+  double p_value = 1.0;         ///< after the scan's correction (may underflow to 0: see log_p)
+  double log_p = 0.0;           ///< its natural log, without underflow (the ranking)
+  double z = 0.0;               ///< Φ⁻¹(1 − p) from log_p, ≥ 0 (0: no evidence at all)
   bool significant = false;     ///< p < alpha / tested effects
   std::map<std::string, double> params, params_stderr;
   std::string add;              ///< JSON fragment for the identify config
@@ -68,7 +69,7 @@ struct ScoreSuspect {
 };
 
 struct ScoreSuspectReport {
-  std::vector<ScoreSuspect> ranked;  ///< by p-value, then by statistic per degree of freedom
+  std::vector<ScoreSuspect> ranked;  ///< by log_p, then by statistic per degree of freedom
   std::vector<std::pair<std::string, std::string>> untested;
   std::size_t samples = 0, records = 0;
   double threshold = 0.0;  ///< per-effect p threshold (alpha / tested)

@@ -61,4 +61,11 @@ ScoreTestResult score_test(const ObservedModel& model, const Dataset& data,
                            const std::vector<std::string>& tested,
                            const ScoreTestOptions& options = {});
 
+/// Several independent tests from ONE derivative pass: each group of parameters is tested
+/// against the model's own parameters with the other groups held at their null values (their
+/// derivatives at the null are the same as in separate passes).
+std::vector<ScoreTestResult> score_tests(const ObservedModel& model, const Dataset& data,
+                                         const std::vector<std::vector<std::string>>& groups,
+                                         const ScoreTestOptions& options = {});
+
 }  // namespace vehs::likelihood
