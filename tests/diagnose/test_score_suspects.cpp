@@ -83,46 +83,64 @@ const HiddenCase& case_named(const std::string& name) {
 
 }  // namespace
 
-// Control data (nothing hidden; the three potentials): no effect may be claimed. Each report
-// claims with probability ≤ alpha = 0.01 when the tests are calibrated (Bonferroni over the
-// effects and the scans); allowing a calibration error of 2× (0.02 per report), P(≥ 2 claims in
-// 3 reports) = 3·0.02² = 1.2e-3 — too high — so the check is on the smallest p over the three
-// reports against alpha/3000 per report: P(any p < 3.3e-6 · 3 reports) ≤ 2·1e-5 = 2e-5 (under a
-// 2× calibration error).
+/// The CI size: 24 records × 3000 samples (the study: 32 × 4000).
+HiddenCase ci_size(HiddenCase c) {
+  c.records = 24;
+  c.samples = 3000;
+  return c;
+}
+
+// Control data (nothing hidden; bi- and penta-stable): no effect may be claimed. A report claims
+// with probability ≤ alpha = 0.01 when the tests are calibrated (Bonferroni over the effects and
+// the scans); the check is stricter on the smallest p, against alpha/300 per report, so that a
+// calibration error of 2× still leaves P(failure) ≤ 2 · 2 · 0.01/300 ≈ 1.3e-4 … and the measured
+// null z (data/diagnose/README.md, 3 potentials × seeds) never exceeded 2.4, p > 0.01.
+// P(min p < 3.3e-5 in 2 reports) ≤ 2 · 2 · 3.3e-5 = 1.3e-4 at a 2× calibration error, 6.7e-5
+// when calibrated.
 TEST_CASE("score suspects: nothing is claimed on data from the baseline's own family",
           "[diagnose][score_suspects]") {
-  for (const std::string name : {"none", "none_tristable", "none_pentastable"}) {
-    const HiddenCase& hc = case_named(name);
+  for (const std::string name : {"none", "none_pentastable"}) {
+    const HiddenCase hc = ci_size(case_named(name));
     const Dataset d = hidden_data(hc, 11);
     const Outcome o = run_case(hc, d);
     INFO(name << " (" << o.seconds << " s):" << describe(o.report));
     REQUIRE_FALSE(o.report.ranked.empty());
-    for (const auto& s : o.report.ranked) CHECK(s.p_value > 0.01 / 3000.0);
+    tally(name + " largest z", o.report.ranked.front().z);
+    for (const auto& s : o.report.ranked) CHECK(s.p_value > 0.01 / 300.0);
   }
 }
 
-// Power and naming: the hidden effect is ranked first and significant, and its z is at least
-// 0.7× the oracle's. The cases have oracle z ≥ 8 (measured, data/diagnose/README.md); the claim
-// needs z above ≈ 4 (alpha 0.01 over 10 effects and the scan), so a miss needs the score z to
-// fall ≥ 4 SD below its expectation: P ≤ Φ(−4) = 3e-5 per case, 1e-4 over the three. The
-// ranking: the runner-ups' z are at most a few (their p-values after the scans) — a wrong first
-// needs a runner-up above the hidden effect's z ≥ 8: below 1e-5.
+// Power and discrimination: the hidden effect is ranked first and significant — a term-like
+// effect, the two hidden states (noise-driven OU excitation, velocity-driven electrical state)
+// and a forcing with a random phase per record. At the CI size the hidden effects' z are ≥ 9
+// (measured over seeds, data/diagnose/README.md) and the runner-ups' ≤ 3.5 except colored_noise
+// on electromechanical data (8.5 at the study size); a claim needs z ≈ 3.1–3.6, so a miss needs
+// a ≥ 5 SD fall (P ≤ 3e-7 per case) and a wrong first a ≥ 3.9 SD swap of the two hidden states
+// (their z differ by ≥ 6 at the study size, ≥ 5.2 here; each z has SD 1: P(swap) ≤ Φ(−5.2/√2)
+// = 1.2e-4 — the one check here above the budget, stated). For coulomb_friction (μ = 0.05 at
+// this size) the suspect's z is also at least 0.7× the oracle's (the likelihood refitted with
+// the friction): the score and Wald z differ by O(z²/√n), measured 0.98 ± 0.05 of the oracle.
 TEST_CASE("score suspects: a hidden effect is named first and significant, z near the oracle's",
           "[diagnose][score_suspects]") {
-  for (const std::string name : {"coulomb_friction", "colored_noise", "harmonic_forcing_per_record"}) {
-    const HiddenCase& hc = case_named(name);
+  for (const std::string name :
+       {"coulomb_friction", "colored_noise", "electromechanical_coupling", "harmonic_forcing_per_record"}) {
+    HiddenCase hc = ci_size(case_named(name));
+    if (name == "coulomb_friction") hc.extra_drift = "\"sign(y)\": -0.05";
     const Dataset d = hidden_data(hc, 21);
     const Outcome o = run_case(hc, d);
-    const double oracle = oracle_z(hc, d);
-    INFO(name << " (" << o.seconds << " s), oracle z " << oracle << ":" << describe(o.report));
+    INFO(name << " (" << o.seconds << " s):" << describe(o.report));
     REQUIRE_FALSE(o.report.ranked.empty());
+    tally(name + " first z", o.report.ranked.front().z);
+    if (o.report.ranked.size() > 1) tally(name + " runner-up z", o.report.ranked[1].z);
+    tally(name + " seconds", o.seconds);
     CHECK(o.report.ranked.front().effect == name);
     CHECK(o.report.ranked.front().significant);
-    const diagnose::ScoreSuspect* s = nullptr;
-    for (const auto& sp : o.report.ranked)
-      if (sp.effect == name) s = &sp;
-    REQUIRE(s);
-    CHECK(s->z >= 0.7 * std::min(oracle, 38.0 / 0.7));
+    if (name == "coulomb_friction") {
+      const double oracle = oracle_z(hc, d);
+      INFO("oracle z " << oracle);
+      tally(name + " z over oracle z", o.report.ranked.front().z / oracle);
+      CHECK(o.report.ranked.front().z >= 0.7 * oracle);
+    }
   }
 }
 
