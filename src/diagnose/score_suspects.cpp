@@ -311,7 +311,7 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
   const bool limit = options.max_samples > 0.0 && double(all.total_samples()) > options.max_samples;
   if (limit)
     limited = leading_samples(all, [&](std::size_t i, const Record& r, std::size_t taken) {
-      return double(taken + r.size) > options.max_samples && i >= 8 ? kEndSelection : r.size;
+      return double(taken + r.size) > options.max_samples && i >= 2 ? kEndSelection : r.size;
     });
   const Dataset& data = limit ? limited : all;
   rep.samples = data.total_samples();

@@ -46,7 +46,7 @@ struct ScoreSuspectOptions {
   double alpha = 0.01;          ///< family-wise level of a claim (Bonferroni over the effects)
   int grid = 6;                 ///< points of the vanishing parameter's grid
   double forcing_band = 6.0;    ///< harmonic forcing scanned up to this multiple of ω̄
-  double max_samples = 2.5e5;   ///< whole records, in order, up to this many samples (0: all)
+  double max_samples = 2.5e5;   ///< whole records, in order, up to this many samples, at least 2 (0: all)
   int threads = 0;              ///< 0: the OpenMP default
   std::string invalid_reason() const;
 };
