@@ -145,6 +145,10 @@ Result compare_with_twins(const Model& model, const Dataset& data, const Options
 std::optional<Dataset> add_suspects(const Model& model, const Dataset& data, const Options& opt, Result& res,
                                     Stopwatch& watch);
 
+/// The likelihood's score tests of the effects the model lacks (score_suspects.hpp) and their
+/// component: the smallest p-value, Bonferroni over the tested effects.
+void add_score_suspects(const Model& model, const Dataset& data, const Options& opt, Result& res, Stopwatch& watch);
+
 /// Verdict, score and threshold from the components (Bonferroni over the available ones).
 void finish_verdict(Result& res, double alpha);
 

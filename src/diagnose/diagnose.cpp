@@ -27,6 +27,7 @@ std::string Options::invalid_reason() const {
   if (!(suspect_samples >= 0.0)) return "suspect_samples must be >= 0";
   if (parameter_draws < 2 || parameter_draws > 200) return "parameter_draws must be in [2, 200]";
   if (!(parameter_fit_samples >= 1e4)) return "parameter_fit_samples must be >= 10000";
+  if (auto why = score_suspects.invalid_reason(); !why.empty()) return why;
   return suspects.invalid_reason();
 }
 
@@ -90,6 +91,7 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
   Result res = detail::compare_with_twins(model, data, opt, watch);
   std::optional<Dataset> suspect_subset;
   if (opt.suspects.enabled) suspect_subset = detail::add_suspects(model, data, opt, res, watch);
+  if (opt.score_suspects.enabled) detail::add_score_suspects(model, data, opt, res, watch);
   detail::finish_verdict(res, opt.alpha);
   const bool bad = !res.adequate();
   if (bad && opt.suspects.enabled && opt.suspects.confirm) {

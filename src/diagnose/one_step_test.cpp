@@ -41,6 +41,22 @@ void bin_sums(const std::vector<UnitStats>& stats, int b, double sums[5], int& u
   }
 }
 
+/// Kish's effective number of units in bin b, (Σ w)²/Σ w² with w a unit's rows there (data plus
+/// twins per replicate): the jackknife over units has about this many non-trivial terms. Short
+/// records each visit a small part of (x, v̂), so a bin can hold rows of a few units only; its
+/// t statistic then has a few degrees of freedom, not units − 1 (with units − 1 the true model
+/// failed on 40 records of 2 time units, issue 13).
+double effective_units(const Comparison& cmp, int b) {
+  double s = 0.0, s2 = 0.0;
+  for (std::size_t j = 0; j < cmp.data_stats.size(); ++j) {
+    const double w = cmp.data_stats[j].map[static_cast<std::size_t>(b) * 5] +
+                     cmp.twin_stats[j].map[static_cast<std::size_t>(b) * 5] / cmp.replicates;
+    s += w;
+    s2 += w * w;
+  }
+  return s2 > 0.0 ? s * s / s2 : 0.0;
+}
+
 /// z of the data − twin differences (mean, log-variance, kurtosis) of bin b, with paired
 /// delete-one-unit jackknife standard errors.
 std::array<double, 3> bin_z(const Comparison& cmp, int b, const double D[5], const double T[5], const BinMoments& md,
@@ -138,7 +154,9 @@ Component one_step_test(const Comparison& cmp, OneStepMap& mp) {
     mb.var_twin = mt.var;
     mb.kurt_data = md.kurt;
     mb.kurt_twin = mt.kurt;
-    if (md.n < opt.min_bin_count || mt.n / R < opt.min_bin_count || ud < 2 || ut < 2 || U < 3) continue;
+    const double n_eff = effective_units(cmp, b);
+    if (md.n < opt.min_bin_count || mt.n / R < opt.min_bin_count || ud < 2 || ut < 2 || U < 3 || n_eff < 4.0)
+      continue;
     const std::array<double, 3> z = bin_z(cmp, b, D, T, md, mt);
     mb.z_mean = z[0];
     mb.z_var = z[1];
@@ -146,8 +164,8 @@ Component one_step_test(const Comparison& cmp, OneStepMap& mp) {
     mb.used = true;
     tvals.push_back(z[0]);
     tvals.push_back(z[1]);
-    nus.push_back(U - 1.0);
-    nus.push_back(U - 1.0);
+    nus.push_back(std::min(U - 1.0, n_eff - 1.0));
+    nus.push_back(std::min(U - 1.0, n_eff - 1.0));
   }
   Component c{"one_step",
               "whitened one-step residual mean and log-variance per (x, v) bin, data vs twins",

@@ -75,6 +75,34 @@ std::optional<Dataset> add_suspects(const Model& model, const Dataset& data, con
   return sub;
 }
 
+void add_score_suspects(const Model& model, const Dataset& data, const Options& opt, Result& res, Stopwatch& watch) {
+  ScoreSuspectReport& rep = res.score_suspects;
+  try {
+    rep = score_suspects(model, data, res.sampling.sensor_noise_sd, opt.score_suspects);
+  } catch (const std::exception& e) {
+    rep.note = e.what();
+  }
+  watch.lap(res, "score_suspects");
+  Component c{"score_suspects", "likelihood score tests of the catalogue effects the model lacks, all the data",
+              TestResult{}};
+  if (!rep.ranked.empty()) {
+    const ScoreSuspect& top = rep.ranked.front();
+    TestResult& t = c.test;
+    t.available = true;
+    t.units = static_cast<int>(rep.records);
+    t.statistic = top.z;
+    t.dof = 1.0;
+    t.p_value = std::min(1.0, top.p_value * static_cast<double>(rep.ranked.size()));
+    t.chi2 = chi2_equivalent(t.p_value, 1.0, top.z * top.z);
+    t.method = "smallest p = " + fmt(top.p_value) + " (" + top.effect + ", z = " + fmt(top.z) + ") over " +
+               std::to_string(rep.ranked.size()) + " tested effects, Bonferroni";
+    finish_excess(t);
+  } else {
+    c.test.note = rep.note.empty() ? "no effect could be tested" : rep.note;
+  }
+  res.components.push_back(c);
+}
+
 void confirm_contenders(const Model& model, const Dataset& data, const Lens& lens, const Options& opt,
                         SuspectReport& rep) {
   auto& ranked = rep.ranked;

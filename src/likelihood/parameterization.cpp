@@ -89,6 +89,10 @@ Parameterization::Parameterization(const ObservedModel& start, const FitChoice& 
                                    std::size_t records, const std::string& where)
     : start_(start), structure_(Structure::of(start.model, where)), records_(records) {
   const Model& m = start.model;
+  auto natural = [&](const std::string& name) {
+    return std::find(choice.natural_scale.begin(), choice.natural_scale.end(), name) !=
+           choice.natural_scale.end();
+  };
   if (!(std::isfinite(start.measurement_sd) && start.measurement_sd >= 0.0))
     throw Error(where + ": measurement_sd must be finite and >= 0");
   for (const auto& tc : m.drift)
@@ -100,8 +104,9 @@ Parameterization::Parameterization(const ObservedModel& start, const FitChoice& 
     }
   for (const auto& tc : m.diffusion)
     if (tc.coef != 0.0) {
-      const bool log_scale = tc.term == Term::monomial(0, 0) && tc.coef > 0.0;
-      params_.push_back({"diffusion[" + tc.term.name() + "]", ParameterKind::Diffusion,
+      const std::string name = "diffusion[" + tc.term.name() + "]";
+      const bool log_scale = tc.term == Term::monomial(0, 0) && tc.coef > 0.0 && !natural(name);
+      params_.push_back({name, ParameterKind::Diffusion,
                          int(base_.diffusion.size()), {}, {}, log_scale});
       initial_.push_back(log_scale ? std::log(tc.coef) : tc.coef);
       base_.diffusion.push_back(tc.coef);
@@ -115,7 +120,7 @@ Parameterization::Parameterization(const ObservedModel& start, const FitChoice& 
       ParameterInfo info{e.name() + "." + key, ParameterKind::Effect, -1, e.id, key, false};
       target(info, base_) = v;
       if (e.id == EffectId::HarmonicForcing && key == "phase" && choice.per_record_phase) continue;
-      const bool log_scale = positive_effect_param(e.id, key);
+      const bool log_scale = positive_effect_param(e.id, key) && !natural(info.name);
       if (log_scale && !(v > 0.0))
         throw Error(where + ": " + info.name + " must start > 0 (got " + std::to_string(v) + ")");
       info.log_scale = log_scale;

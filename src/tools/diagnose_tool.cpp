@@ -80,6 +80,12 @@ const ConfigSchema& diagnose_schema() {
            "The suspects use whole records, in order, up to this many samples (their refits are the slowest "
            "part of a run); 0: all data.",
            "4e6"},
+          {"score_suspects", "bool | object",
+           "Likelihood score tests of every effect the model lacks, on all the data: true/false, or {\"grid\": 6 "
+           "(values of a gap, lambda or tau scanned), \"max_samples\": 2.5e5 (whole records up to this many "
+           "samples; 0: all), \"forcing_band\": 6 (harmonic forcing scanned up to this multiple of the data's "
+           "typical frequency)}.",
+           "true"},
           {"alpha", "number", "Family-wise level of the verdict (Bonferroni over the components).", "0.01"},
           {"lens", "string",
            "Kinematics: auto (the model file's estimator, else the data's sampling diagnosis), forward (data from "
@@ -148,6 +154,22 @@ diagnose::Options diagnose_options(const Config& c) {
     }
   }
   o.suspect_samples = c.non_negative_or("suspect_samples", 4e6);
+  o.score_suspects.enabled = true;  // the product runs them (the library's default is off)
+  if (c.has("score_suspects")) {
+    const auto& v = c.raw("score_suspects");
+    if (v.is_boolean()) {
+      o.score_suspects.enabled = v.get<bool>();
+    } else if (v.is_object()) {
+      const Config s = c.object("score_suspects", {"enabled", "grid", "max_samples", "forcing_band"});
+      o.score_suspects.enabled = s.boolean_or("enabled", true);
+      o.score_suspects.grid = static_cast<int>(s.integer_at_least("grid", 1, 6));
+      if (o.score_suspects.grid > 64) s.fail("grid", "must be <= 64");
+      o.score_suspects.max_samples = s.non_negative_or("max_samples", 2.5e5);
+      o.score_suspects.forcing_band = s.positive_or("forcing_band", 6.0);
+    } else {
+      c.fail("score_suspects", "must be true, false or an object");
+    }
+  }
   o.alpha = c.positive_or("alpha", 0.01);
   if (!(o.alpha < 0.5)) c.fail("alpha", "must be in (0, 0.5)");
   o.lens = enum_from_string(kLensNames, c.string_or("lens", "auto"), c.where("lens"));
@@ -244,6 +266,12 @@ int run_diagnose(Config& c, const AppOptions& app) {
       for (const auto& s : r.suspects.ranked)
         std::printf("  %-26s %10s  z = %6s%s\n", s.effect.c_str(), g(s.evidence).c_str(), g(s.z, 3).c_str(),
                     s.significant ? "  claimed" : "");
+    }
+    if (!r.score_suspects.ranked.empty()) {
+      std::printf("score suspects (likelihood, all data):\n");
+      for (const auto& s : r.score_suspects.ranked)
+        std::printf("  %-28s z = %6s  p = %-9s power %s%s\n", s.effect.c_str(), g(s.z, 3).c_str(),
+                    g(s.p_value, 2).c_str(), g(s.power, 2).c_str(), s.significant ? "  significant" : "");
     }
     for (const auto& w : r.warnings) std::printf("warning: %s\n", w.c_str());
     std::printf("report: %s\nsummary: %s\n", html.c_str(), output.c_str());

@@ -45,6 +45,25 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
     sus.push_back(e);
   }
   j["suspects"] = sus;
+  J score = J::array();
+  for (const auto& s : r.score_suspects.ranked) {
+    J e;
+    e["effect"] = s.effect;
+    e["z"] = num(s.z);
+    e["p_value"] = num(s.p_value);
+    e["significant"] = s.significant;
+    e["statistic"] = num(s.statistic);
+    e["dof"] = num(s.dof);
+    e["test"] = s.test;
+    e["params"] = s.params;
+    e["params_stderr"] = s.params_stderr;
+    e["add"] = J::parse(s.add);
+    e["null_claim_rate"] = num(s.null_claim_rate);
+    e["power"] = num(s.power);
+    if (!s.detectable.empty()) e["detectable"] = s.detectable;
+    score.push_back(e);
+  }
+  j["score_suspects"] = score;
   // ---- details
   j["score_definition"] =
       "sum over the available components of max(0, chi2/dof - 1), chi2 the chi-square quantile "
@@ -145,6 +164,15 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
   for (const auto& [name, why] : r.suspects.untested) un.push_back({{"effect", name}, {"reason", why}});
   j["untested_effects"] = un;
   if (!r.suspects.note.empty()) j["suspects_note"] = r.suspects.note;
+  {
+    J un2 = J::array();
+    for (const auto& [name, why] : r.score_suspects.untested) un2.push_back({{"effect", name}, {"reason", why}});
+    j["score_suspects_details"] = {{"samples", r.score_suspects.samples},
+                                   {"records", r.score_suspects.records},
+                                   {"threshold", r.score_suspects.threshold},
+                                   {"untested", un2},
+                                   {"note", r.score_suspects.note}};
+  }
   j["suspects_heldout"] = {{"rows", r.suspects.baseline_heldout_rows}, {"blocks", r.suspects.blocks}};
   j["warnings"] = r.warnings;
   J timings = J::object();

@@ -312,6 +312,34 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
                         "with boxes lc rgb '#6baed6' notitle, 3 with lines dt 2 lc rgb 'black' title 'threshold', 0 "
                         "with lines lc rgb 'gray' notitle");
     }
+    if (!r.score_suspects.ranked.empty()) {
+      const auto& ss = r.score_suspects;
+      s.paragraphs.push_back(
+          "Likelihood score tests on all the data (" + g(static_cast<double>(ss.samples), 6) + " samples in " +
+          std::to_string(ss.records) + " records): for each effect the model lacks, how much the likelihood of "
+          "the model's filter rises when the effect's parameter leaves 0 (p after the scan over the parameters the "
+          "null leaves undetermined; z = the normal quantile of p). 'under the model' is how often the same test "
+          "claims the effect on data simulated from the model (the null); 'power' how often it would on data from "
+          "the model plus the fitted effect. Not significant with a high power: the effect is absent; with a low "
+          "power: too little data (the last column: the size these data would reveal).");
+      ReportTable t;
+      t.caption = "Score-test suspects (likelihood, all data), most likely first";
+      t.header = {"effect", "z", "p", "claimed", "under the model", "power", "fitted parameters", "detectable",
+                  "test", "add to identify-vehs config"};
+      for (std::size_t i = 0; i < ss.ranked.size(); ++i) {
+        const auto& sp = ss.ranked[i];
+        std::string params;
+        for (const auto& [key, value] : sp.params) {
+          if (!params.empty()) params += ", ";
+          params += key + " = " + g(value);
+          if (auto se = sp.params_stderr.find(key); se != sp.params_stderr.end()) params += " ± " + g(se->second, 2);
+        }
+        t.rows.push_back({sp.effect, g(sp.z, 3), g(sp.p_value, 2), sp.significant ? "yes" : "no",
+                          g(sp.null_claim_rate, 2), g(sp.power, 2), params, sp.detectable, sp.test, sp.add});
+        if (sp.significant) t.highlight.push_back(i);
+      }
+      s.tables.push_back(t);
+    }
     if (!r.suspects.untested.empty()) {
       ReportTable t;
       t.caption = "Effects not tested";

@@ -54,6 +54,7 @@
 #include "vehs/core/progress.hpp"
 #include "vehs/diagnose/hypothesis.hpp"
 #include "vehs/diagnose/lens.hpp"
+#include "vehs/diagnose/score_suspects.hpp"
 #include "vehs/diagnose/suspects.hpp"
 #include "vehs/diagnose/verdict.hpp"
 #include "vehs/sim/simulate.hpp"
@@ -105,6 +106,10 @@ struct Options {
   /// The suspects use whole records, in order, up to this many samples (their refits of dynamic
   /// effects are the slowest part of a run; 0: all data).
   double suspect_samples = 4e6;
+  /// The likelihood's score tests of every effect the model lacks, on all the data (up to
+  /// score_suspects.max_samples): score_suspects.hpp; a component of the verdict when enabled.
+  /// Off by default in the library (diagnose-vehs turns it on): it costs a few filter passes.
+  ScoreSuspectOptions score_suspects{false};
   ProgressCallback progress;           ///< tasks "diagnose", "parameter draws", "suspects"; empty: none
 
   std::string invalid_reason() const;
@@ -195,6 +200,7 @@ struct Result {
   std::vector<WellInfo> wells;
   std::string fpk_note;  ///< why the FPK reference is missing, or its grid
   SuspectReport suspects;
+  ScoreSuspectReport score_suspects;
   std::vector<std::string> warnings;
   std::vector<std::pair<std::string, double>> timings;  ///< seconds per stage, in order
 };

@@ -19,6 +19,9 @@ struct FitChoice {
   bool fit_measurement_noise = true;  ///< false: measurement_sd held at its start value
   bool per_record_phase = false;      ///< harmonic_forcing phase per record
   std::vector<std::string> fixed;     ///< further parameter names held at their start values
+  /// Parameter names kept on the natural scale even when strictly positive (score tests at a
+  /// null value of 0: impact_stop.k_stop, colored_noise.intensity, …).
+  std::vector<std::string> natural_scale;
 };
 
 class Parameterization {

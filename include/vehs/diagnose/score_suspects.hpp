@@ -1,0 +1,85 @@
+#pragma once
+// Suspects from ALL the data by the likelihood (issue 13): for every catalogue effect the model
+// lacks, a test of the model against the model plus the effect, from one pass of the
+// continuous–discrete filter over the model's state (vehs/likelihood/score_test.hpp) at the
+// model itself — no refit, no held-out split.
+//
+//  * term-like effects (coulomb_friction, quadratic_damping, nonlinear_damping,
+//    asymmetric_stiffness, velocity_dependent_noise): the C(α) score test of the effect's
+//    coefficients at 0, the model's own parameters projected out. One coefficient with a sign
+//    (μ, c, q ≥ 0): one-sided z; several: χ² with their number of degrees of freedom.
+//  * effects whose other parameters vanish under the null — impact_stop (gap),
+//    electromechanical_coupling (λ), colored_noise (τ): the score test of k_stop, coupling,
+//    intensity at 0 on a grid of the vanishing parameter (quantiles of |x|; multiples of the
+//    data's typical frequency ω̄ = rms(ẋ)/rms(x)); the largest z over the grid, Bonferroni over
+//    the grid points (conservative: neighbouring points are correlated).
+//    These three, and the forcing below, are what tells a hidden state driven by noise
+//    (colored_noise) from one driven by the velocity (electromechanical_coupling) from a
+//    deterministic force: each is a likelihood of the filter over its own hidden state.
+//  * harmonic_forcing: a force a·cos(ωt + φ) moves the one-step predictions by a sinusoid at
+//    ω, so the score of (a cos φ, a sin φ) at frequency ω is the Fourier coefficient of the
+//    whitened innovations e_k/√S_k of the model's filter. With one phase for every record (in
+//    absolute time): 2|Σ_r Σ_k w_k e^{−iωt_k}|²/N ~ χ²₂; with a phase per record (the
+//    `harmonic_forcing_per_record` suspect): Σ_r 2|Σ_k w_k e^{−iωt_k}|²/n_r ~ χ²_{2R}
+//    (the score of a² with the phases random). Scanned over the frequencies up to
+//    `forcing_band`·ω̄ (twice oversampled), Bonferroni over the independent frequencies.
+//    Fitted: ω̂ at the peak, the amplitude from the periodogram's excess.
+// For every suspect: the statistic, its p-value after the scan, the z-equivalent Φ⁻¹(1 − p),
+// the effect's parameters (one Fisher-scoring step from the null) with standard errors, the
+// `add` fragment, and what the same test reaches under the model (the null: z-equivalent ≈ 0,
+// claimed with probability α/effects) and under the refitted alternative (the power: the
+// probability of a claim when the data come from the model plus the fitted effect, asymptotic
+// for the score tests) — "not significant" with a high power means "absent", with a low power
+// "too little data"; `detectable` is the effect size the test finds with 90 % power here.
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "vehs/core/dataset.hpp"
+#include "vehs/core/model.hpp"
+
+namespace vehs::diagnose {
+
+struct ScoreSuspectOptions {
+  bool enabled = true;
+  double alpha = 0.01;          ///< family-wise level of a claim (Bonferroni over the effects)
+  int grid = 6;                 ///< points of the vanishing parameter's grid
+  double forcing_band = 6.0;    ///< harmonic forcing scanned up to this multiple of ω̄
+  double max_samples = 2.5e5;   ///< whole records, in order, up to this many samples, at least 2 (0: all)
+  int threads = 0;              ///< 0: the OpenMP default
+  std::string invalid_reason() const;
+};
+
+struct ScoreSuspect {
+  std::string effect;           ///< catalogue name, or harmonic_forcing_per_record
+  std::string test;             ///< one line: the statistic and its law
+  double statistic = 0.0, dof = 1.0;
+  int scanned = 1;              ///< points of the scan behind the p-value
+  double p_value = 1.0;         ///< after the scan's correction (may underflow to 0: see log_p)
+  double log_p = 0.0;           ///< its natural log, without underflow (the ranking)
+  double z = 0.0;               ///< Φ⁻¹(1 − p) from log_p, ≥ 0 (0: no evidence at all)
+  bool significant = false;     ///< p < alpha / tested effects
+  std::map<std::string, double> params, params_stderr;
+  std::string add;              ///< JSON fragment for the identify config
+  double null_claim_rate = 0.0; ///< probability of a claim under the model (α / effects)
+  double power = 0.0;           ///< probability of a claim under the fitted alternative
+  std::string detectable;       ///< "mu >= 0.012" (90 % power), empty when not defined
+  double seconds = 0.0;         ///< wall time of its filter passes
+};
+
+struct ScoreSuspectReport {
+  std::vector<ScoreSuspect> ranked;  ///< by log_p, then by statistic per degree of freedom
+  std::vector<std::pair<std::string, std::string>> untested;
+  std::size_t samples = 0, records = 0;
+  double threshold = 0.0;  ///< per-effect p threshold (alpha / tested)
+  std::string note;        ///< non-empty when the tests could not run at all
+};
+
+/// Runs the tests (see the header comment). `measurement_sd`: the white sensor noise on x the
+/// model is observed with (0: none). Errors of single effects become `untested` entries; a
+/// model the filter cannot take becomes `note`.
+ScoreSuspectReport score_suspects(const Model& model, const Dataset& data, double measurement_sd,
+                                  const ScoreSuspectOptions& options);
+
+}  // namespace vehs::diagnose

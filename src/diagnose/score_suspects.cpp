@@ -1,0 +1,436 @@
+// Suspects by the likelihood's score tests (score_suspects.hpp).
+#include "vehs/diagnose/score_suspects.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <exception>
+#include <functional>
+#include <limits>
+#include <string_view>
+
+#include <unsupported/Eigen/FFT>
+
+#include "unit_math.hpp"
+#include "vehs/core/error.hpp"
+#include "vehs/diagnose/distributions.hpp"
+#include "vehs/likelihood/filter.hpp"
+#include "vehs/likelihood/score_test.hpp"
+
+namespace vehs::diagnose {
+
+std::string ScoreSuspectOptions::invalid_reason() const {
+  if (!(alpha > 0.0 && alpha < 0.5)) return "score suspects: alpha must be in (0, 0.5)";
+  if (grid < 1 || grid > 64) return "score suspects: grid must be in [1, 64]";
+  if (!(forcing_band > 0.0)) return "score suspects: forcing_band must be > 0";
+  if (!(max_samples >= 0.0)) return "score suspects: max_samples must be >= 0";
+  return {};
+}
+
+namespace {
+
+using detail::fmt;
+
+constexpr double kTiny = 1e-300;  // a drift/diffusion coefficient "at 0" that stays a free parameter
+constexpr double kZ90 = 1.2815515655446004;  // Φ⁻¹(0.9)
+
+/// log P(N(0,1) > z), without underflow far in the tail.
+double log_normal_sf(double z) {
+  if (z < 8.0) return std::log(normal_sf(z));
+  return -0.5 * z * z - std::log(z) - 0.5 * std::log(2.0 * M_PI) + std::log1p(-1.0 / (z * z));
+}
+
+/// log P(χ²_k > x): exact where it does not underflow, else the Wilson–Hilferty normal tail.
+double log_chi2_sf(double x, double k) {
+  const double p = chi2_sf(x, k);
+  if (p > 1e-280) return std::log(p);
+  const double a = 2.0 / (9.0 * k);
+  return log_normal_sf((std::cbrt(x / k) - (1.0 - a)) / std::sqrt(a));
+}
+
+/// The z with log P(N(0,1) > z) = log_p (≥ 0; 0 for p ≥ 1/2).
+double z_of_log_p(double log_p) {
+  if (!(log_p < std::log(0.5))) return 0.0;
+  if (log_p > -600.0) return normal_isf(std::exp(log_p));
+  double z = std::sqrt(-2.0 * log_p);  // Newton on the asymptotic tail
+  for (int i = 0; i < 8; ++i) z -= (log_normal_sf(z) - log_p) / (-z - 1.0 / z);
+  return z;
+}
+
+/// rms(ẋ)/rms(x) over the data (finite differences, record means removed): a typical frequency.
+double typical_frequency(const Dataset& data) {
+  double sx = 0.0, sy = 0.0;
+  std::size_t nx = 0, ny = 0;
+  for (const auto& r : data.records) {
+    const double* x = data.x_of(r);
+    double mean = 0.0;
+    for (std::size_t k = 0; k < r.size; ++k) mean += x[k];
+    mean /= double(r.size);
+    for (std::size_t k = 0; k < r.size; ++k) sx += (x[k] - mean) * (x[k] - mean), ++nx;
+    for (std::size_t k = 0; k + 1 < r.size; ++k) {
+      const double d = (x[k + 1] - x[k]) / r.dt;
+      sy += d * d, ++ny;
+    }
+  }
+  return nx && ny && sx > 0.0 ? std::sqrt((sy / double(ny)) / (sx / double(nx))) : 1.0;
+}
+
+double quantile_abs(const Dataset& data, double q) {
+  std::vector<double> a(data.x.size());
+  for (std::size_t i = 0; i < a.size(); ++i) a[i] = std::abs(data.x[i]);
+  const std::size_t k = std::min(a.size() - 1, std::size_t(q * double(a.size())));
+  std::nth_element(a.begin(), a.begin() + long(k), a.end());
+  return a[k];
+}
+
+/// The per-effect p threshold, z critical value and power fields of a one-sided 1-dof test
+/// whose estimate is `est` ± `se` (after a scan of `scanned` points).
+void one_sided_power(ScoreSuspect& s, double per_effect_alpha, double est, double se,
+                     const std::string& name) {
+  const double zc = normal_isf(per_effect_alpha / s.scanned);
+  s.power = se > 0.0 ? normal_cdf(est / se - zc) : 0.0;
+  if (se > 0.0) s.detectable = name + " >= " + fmt((zc + kZ90) * se, 3);
+}
+
+/// The identify config fragment that adds an effect (identify fits all its parameters).
+std::string add_fragment(std::string_view effect) { return "{\"effects\": [\"" + std::string(effect) + "\"]}"; }
+
+struct Context {
+  const Model& model;
+  const Dataset& data;
+  double measurement_sd;
+  const ScoreSuspectOptions& options;
+  double omega_bar;
+  likelihood::ScoreTestOptions test_options;
+  Dataset pilot;  ///< the leading quarter of the records, where the scans choose (empty: all data)
+};
+
+/// Term-like effects: their coefficients at 0 in the drift / diffusion, all from one filter pass
+/// (each tested against the model's own terms, the other candidates held at 0).
+std::vector<ScoreSuspect> term_effects(const Context& c, const std::vector<EffectId>& ids,
+                                       std::vector<std::pair<std::string, std::string>>& untested) {
+  struct Slot {
+    std::string param, name;
+    double sign;
+  };
+  Model m = c.model;
+  std::vector<std::vector<Slot>> slots;
+  std::vector<EffectId> tested_ids;
+  for (const EffectId id : ids) {
+    std::vector<Slot> mine;
+    for (const auto& ps : effect_spec(id).params) {
+      Effect e{id, {{std::string(ps.name), 1.0}}, {}};
+      const EffectTerms t = effect_terms(e);
+      const bool drift = !t.drift.empty();
+      const TermCoef& tc = drift ? t.drift.front() : t.diffusion.front();
+      TermList& list = drift ? m.drift : m.diffusion;
+      if (coefficient(list, tc.term) != 0.0) continue;  // already in the model
+      list.push_back({tc.term, kTiny * tc.coef});
+      mine.push_back({std::string(ps.name), std::string(drift ? "drift[" : "diffusion[") + tc.term.name() + "]",
+                      tc.coef});
+    }
+    if (mine.empty()) {
+      untested.emplace_back(std::string(effect_spec(id).name), "its terms are already in the model");
+      continue;
+    }
+    slots.push_back(std::move(mine));
+    tested_ids.push_back(id);
+  }
+  std::vector<ScoreSuspect> out;
+  if (slots.empty()) return out;
+  canonicalize(m.drift, "score suspects");
+  canonicalize(m.diffusion, "score suspects");
+  std::vector<std::vector<std::string>> groups;
+  for (const auto& g : slots) {
+    groups.emplace_back();
+    for (const auto& sl : g) groups.back().push_back(sl.name);
+  }
+  likelihood::ObservedModel om{m, c.measurement_sd, {}};
+  const std::vector<likelihood::ScoreTestResult> rs = likelihood::score_tests(om, c.data, groups, c.test_options);
+  for (std::size_t k = 0; k < rs.size(); ++k) {
+    const EffectSpec& spec = effect_spec(tested_ids[k]);
+    const likelihood::ScoreTestResult& r = rs[k];
+    const std::vector<Slot>& sl = slots[k];
+    ScoreSuspect s;
+    s.effect = spec.name;
+    s.statistic = r.statistic;
+    s.dof = r.dof;
+    s.add = add_fragment(spec.name);
+    for (std::size_t i = 0; i < sl.size(); ++i) {
+      s.params[sl[i].param] = r.estimate[i] / sl[i].sign;
+      s.params_stderr[sl[i].param] = r.stderrs[i];
+    }
+    const bool signed_param = sl.size() == 1 && spec.params.front().lower_bound >= 0.0;
+    if (signed_param) {
+      const double z = r.z * sl[0].sign;  // z of the effect's parameter (μ, c, q ≥ 0)
+      s.statistic = z;
+      s.log_p = log_normal_sf(z);
+      s.test = "score test of " + sl[0].param + " = 0 (one-sided normal)";
+    } else {
+      s.log_p = r.dof > 0 ? log_chi2_sf(r.statistic, r.dof) : 0.0;
+      s.test = "score test of " + std::to_string(sl.size()) + " coefficients = 0 (chi2, " + std::to_string(r.dof) +
+               " dof)";
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+/// Effect whose own parameter `tested` (k_stop, coupling, intensity) vanishes under the null,
+/// with a parameter `scan` not identified there. The grid point is chosen on the leading quarter
+/// of the records (all of them when there are fewer than 8) and tested on all the data, with a
+/// Bonferroni correction over the grid: the chosen point's statistic is one of the grid's, so
+/// P(it exceeds c) ≤ P(the grid's largest exceeds c) ≤ grid · P(one exceeds c).
+ScoreSuspect scanned_effect(const Context& c, EffectId id, const std::string& tested,
+                            const std::string& scan, const std::vector<double>& grid) {
+  const std::string name = enum_to_string(kEffectNames, id);
+  auto test_at = [&](double g, const Dataset& data) {
+    Model m = c.model;
+    Effect e{id, {}, {}};
+    e.params[tested] = 0.0;
+    e.params[scan] = g;
+    if (id == EffectId::ImpactStop) e.params["gap_neg"] = g;
+    m.effects.push_back(e);
+    likelihood::ScoreTestOptions o = c.test_options;
+    for (const auto& ps : effect_spec(id).params)
+      if (std::string(ps.name) != tested) o.fixed.push_back(name + "." + std::string(ps.name));
+    likelihood::ObservedModel om{m, c.measurement_sd, {}};
+    return likelihood::score_test(om, data, {name + "." + tested}, o);
+  };
+  double best_g = grid.front();
+  if (grid.size() > 1) {
+    const Dataset& pilot = c.pilot.records.empty() ? c.data : c.pilot;
+    double best = -std::numeric_limits<double>::infinity();
+    for (double g : grid) {
+      const double z = test_at(g, pilot).z;
+      if (z > best) best = z, best_g = g;
+    }
+  }
+  const likelihood::ScoreTestResult r = test_at(best_g, c.data);
+  ScoreSuspect s;
+  s.effect = name;
+  s.statistic = r.z;
+  s.params = {{tested, r.estimate[0]}, {scan, best_g}};
+  s.params_stderr = {{tested, r.stderrs[0]}};
+  s.scanned = int(grid.size());
+  s.log_p = std::min(0.0, log_normal_sf(r.z) + std::log(double(grid.size())));
+  s.test = "score test of " + tested + " = 0 at the " + scan + " chosen on the leading records among " +
+           std::to_string(grid.size()) + " values (one-sided normal, Bonferroni over them)";
+  s.add = add_fragment(name);
+  return s;
+}
+
+/// The harmonic-forcing scans on the whitened innovations of the model's filter.
+std::pair<ScoreSuspect, ScoreSuspect> forcing_scans(const Context& c) {
+  likelihood::ObservedModel om{c.model, c.measurement_sd, {}};
+  const likelihood::FilterTrace tr = likelihood::filter_trace(om, c.data, c.test_options.filter);
+  const double dt = c.data.records.front().dt;
+  std::size_t longest = 0;
+  for (const auto& r : c.data.records) longest = std::max(longest, r.size);
+  std::size_t L = 1;
+  while (L < 2 * longest) L <<= 1;
+  const double omega_max = std::min(M_PI / dt, c.options.forcing_band * c.omega_bar);
+  const std::size_t kmax = std::min(L / 2 - 1, std::size_t(omega_max * double(L) * dt / (2.0 * M_PI)));
+  const std::size_t kmin = 2;  // above the record means' leakage
+  std::vector<double> incoherent(kmax + 1, 0.0);
+  std::vector<std::complex<double>> coherent(kmax + 1, 0.0);
+  double n_total = 0.0;
+  Eigen::FFT<double> fft;
+  std::vector<double> w(L);
+  std::vector<std::complex<double>> spec;
+  for (const auto& r : c.data.records) {
+    std::fill(w.begin(), w.end(), 0.0);
+    // whitened innovations (the first sample of each block has no prediction), scaled to unit
+    // mean square per record so that a misfit of the noise level cannot fake a line
+    double ss = 0.0;
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < r.size; ++k) {
+      const std::size_t i = r.offset + k;
+      if (!(tr.predicted_var[i] > 0.0)) continue;
+      w[k] = (c.data.x[i] - tr.predicted_x[i]) / std::sqrt(tr.predicted_var[i]);
+      ss += w[k] * w[k], ++n;
+    }
+    if (n < 8 || !(ss > 0.0)) continue;
+    const double scale = 1.0 / std::sqrt(ss / double(n));
+    double mean = 0.0;
+    for (std::size_t k = 0; k < r.size; ++k) mean += w[k];
+    mean /= double(r.size);
+    for (std::size_t k = 0; k < r.size; ++k) w[k] = (w[k] - mean) * scale;
+    fft.fwd(spec, w);
+    for (std::size_t k = kmin; k <= kmax; ++k) {
+      const double om_k = 2.0 * M_PI * double(k) / (double(L) * dt);
+      incoherent[k] += 2.0 * std::norm(spec[k]) / double(r.size);
+      coherent[k] += spec[k] * std::polar(1.0, -om_k * r.t0);
+    }
+    n_total += double(r.size);
+  }
+  const double R = double(c.data.records.size());
+  ScoreSuspect shared, local;
+  shared.effect = "harmonic_forcing";
+  local.effect = "harmonic_forcing_per_record";
+  if (kmax < kmin || n_total <= 0.0) throw Error("records too short for a frequency scan");
+  const int scanned = int(kmax - kmin + 1);
+  std::size_t ks = kmin, kl = kmin;
+  for (std::size_t k = kmin; k <= kmax; ++k) {
+    if (std::norm(coherent[k]) > std::norm(coherent[ks])) ks = k;
+    if (incoherent[k] > incoherent[kl]) kl = k;
+  }
+  // independent frequencies: the scan is twice oversampled
+  const double independent = std::max(1.0, 0.5 * scanned);
+  auto fill = [&](ScoreSuspect& s, std::size_t k, double stat, double dof, const std::string& what) {
+    const double om_peak = 2.0 * M_PI * double(k) / (double(L) * dt);
+    s.statistic = stat;
+    s.dof = dof;
+    s.scanned = int(independent);
+    s.log_p = std::min(0.0, log_chi2_sf(stat, dof) + std::log(independent));
+    s.test = what + ", largest over " + std::to_string(int(independent)) + " frequencies up to " +
+             fmt(omega_max, 3) + " rad/time (Bonferroni)";
+    s.params["omega"] = om_peak;
+  };
+  const double stat_shared = 2.0 * std::norm(coherent[ks]) / n_total;
+  fill(shared, ks, stat_shared, 2.0, "periodogram of the whitened innovations, phase shared in absolute time (chi2, 2 dof)");
+  const double stat_local = incoherent[kl];
+  fill(local, kl, stat_local, 2.0 * R, "sum over records of the whitened innovations' periodograms, one phase per record (chi2, " +
+                                           std::to_string(int(2 * R)) + " dof)");
+  shared.add = local.add = add_fragment("harmonic_forcing");
+  // the excess over the null mean, as a signal-to-noise measure (whitened units)
+  shared.params["excess_snr"] = std::max(0.0, stat_shared - 2.0);
+  local.params["excess_snr"] = std::max(0.0, stat_local - 2.0 * R);
+  return {shared, local};
+}
+
+}  // namespace
+
+ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double measurement_sd,
+                                  const ScoreSuspectOptions& options) {
+  if (const std::string why = options.invalid_reason(); !why.empty()) throw Error(why);
+  ScoreSuspectReport rep;
+  if (!options.enabled) return rep;
+  Dataset limited;
+  const bool limit = options.max_samples > 0.0 && double(all.total_samples()) > options.max_samples;
+  if (limit)
+    limited = leading_samples(all, [&](std::size_t i, const Record& r, std::size_t taken) {
+      return double(taken + r.size) > options.max_samples && i >= 2 ? kEndSelection : r.size;
+    });
+  const Dataset& data = limit ? limited : all;
+  rep.samples = data.total_samples();
+  rep.records = data.records.size();
+  Context c{model, data, measurement_sd, options, typical_frequency(data), {}, {}};
+  c.test_options.filter.threads = options.threads;
+  c.test_options.estimate_measurement_noise = measurement_sd > 0.0;
+
+  if (data.records.size() >= 8) {
+    const std::size_t quarter = data.total_samples() / 4;
+    c.pilot = leading_samples(data, [&](std::size_t, const Record& r, std::size_t taken) {
+      return taken >= quarter ? kEndSelection : r.size;
+    });
+  }
+  std::vector<EffectId> term_ids;
+  std::vector<std::function<ScoreSuspect()>> jobs;
+  std::vector<std::string> names;
+  auto untested = [&](const std::string& e, const std::string& why) { rep.untested.emplace_back(e, why); };
+  for (const auto& spec : effect_catalogue()) {
+    const std::string name(spec.name);
+    if (model.find_effect(spec.id)) {
+      untested(name, "already in the model");
+      continue;
+    }
+    if (spec.term_like) {
+      term_ids.push_back(spec.id);
+      continue;
+    } else if (spec.id == EffectId::ImpactStop) {
+      std::vector<double> grid;
+      const double qs[] = {0.6, 0.75, 0.85, 0.92, 0.96, 0.98, 0.99, 0.995};
+      const int n = std::min(options.grid, 8);
+      for (int i = 8 - n; i < 8; ++i) grid.push_back(quantile_abs(data, qs[i]));
+      jobs.push_back([&c, grid] { return scanned_effect(c, EffectId::ImpactStop, "k_stop", "gap", grid); });
+    } else if (spec.id == EffectId::ElectromechanicalCoupling || spec.id == EffectId::ColoredNoise) {
+      const bool electro = spec.id == EffectId::ElectromechanicalCoupling;
+      std::vector<double> grid;  // λ (rate) or τ (time), log-spaced around ω̄ (1/ω̄)
+      for (int i = 0; i < options.grid; ++i) {
+        const double f = std::pow(10.0, -1.0 + 2.0 * (options.grid > 1 ? double(i) / (options.grid - 1) : 0.5));
+        grid.push_back(electro ? f * c.omega_bar : f / c.omega_bar);
+      }
+      if (!electro) {
+        const double dt = data.records.front().dt;
+        for (double& t : grid) t = std::max(t, 2.0 * dt);
+      }
+      jobs.push_back([&c, grid, electro] {
+        return electro ? scanned_effect(c, EffectId::ElectromechanicalCoupling, "coupling", "lambda", grid)
+                       : scanned_effect(c, EffectId::ColoredNoise, "intensity", "tau", grid);
+      });
+    } else if (spec.id == EffectId::HarmonicForcing) {
+      continue;  // below (one scan gives both forms)
+    } else {
+      untested(name, "no score test");
+      continue;
+    }
+    names.push_back(name);
+  }
+  try {
+    if (!term_ids.empty()) {
+      try {
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<ScoreSuspect> terms = term_effects(c, term_ids, rep.untested);
+        const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        for (auto& t : terms) t.seconds = sec, rep.ranked.push_back(std::move(t));
+      } catch (const std::exception& e) {
+        for (const EffectId id : term_ids) untested(std::string(effect_spec(id).name), e.what());
+      }
+    }
+    for (std::size_t j = 0; j < jobs.size(); ++j) {
+      try {
+        const auto t0 = std::chrono::steady_clock::now();
+        rep.ranked.push_back(jobs[j]());
+        rep.ranked.back().seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      } catch (const std::exception& e) {
+        untested(names[j], e.what());
+      }
+    }
+    if (!model.find_effect(EffectId::HarmonicForcing)) {
+      try {
+        const auto t0 = std::chrono::steady_clock::now();
+        auto [shared, local] = forcing_scans(c);
+        shared.seconds = local.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        rep.ranked.push_back(shared);
+        rep.ranked.push_back(local);
+      } catch (const std::exception& e) {
+        untested("harmonic_forcing", e.what());
+      }
+    }
+  } catch (const std::exception& e) {
+    rep.note = e.what();
+  }
+  const double tested = std::max<double>(1.0, double(rep.ranked.size()));
+  rep.threshold = options.alpha / tested;
+  for (auto& s : rep.ranked) {
+    s.p_value = std::exp(s.log_p);
+    s.z = z_of_log_p(s.log_p);
+    s.significant = s.log_p < std::log(rep.threshold);
+    s.null_claim_rate = rep.threshold;
+    if (s.effect == "harmonic_forcing" || s.effect == "harmonic_forcing_per_record") {
+      // power of the same scan against the fitted line: noncentral χ² with λ = the excess
+      // (Patnaik's approximation)
+      const double lam = s.params["excess_snr"], k = s.dof;
+      const double crit = chi2_isf(std::min(1.0, rep.threshold / s.scanned), k);
+      const double a = (k + 2 * lam) / (k + lam), nu = (k + lam) * (k + lam) / (k + 2 * lam);
+      s.power = chi2_sf(crit / a, nu);
+    } else if (s.dof == 1.0 && s.params_stderr.size() == 1) {
+      const auto& [pname, se] = *s.params_stderr.begin();
+      one_sided_power(s, rep.threshold, s.params[pname], se, pname);
+    } else {
+      const double lam = std::max(0.0, s.statistic - s.dof), k = std::max(1.0, s.dof);
+      const double crit = chi2_isf(rep.threshold, k);
+      const double a = (k + 2 * lam) / (k + lam), nu = (k + lam) * (k + lam) / (k + 2 * lam);
+      s.power = chi2_sf(crit / a, nu);
+    }
+  }
+  std::stable_sort(rep.ranked.begin(), rep.ranked.end(), [](const ScoreSuspect& a, const ScoreSuspect& b) {
+    if (a.log_p != b.log_p) return a.log_p < b.log_p;
+    return a.statistic / a.dof > b.statistic / b.dof;
+  });
+  return rep;
+}
+
+}  // namespace vehs::diagnose

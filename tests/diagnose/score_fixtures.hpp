@@ -1,0 +1,185 @@
+#pragma once
+// Hidden-effect data sets of issue 13 for the score-test suspects: bi-, tri- and penta-stable
+// potentials, one catalogue effect hidden with the issue's parameters, continuous-time records
+// (Taylor 1.5, 20 substeps per sample, a burn-in) sampled as a sensor would, 25–40 records. The
+// code under test sees only the records; its baseline is the potential's terms fitted by identify.
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "vehs/core/model.hpp"
+#include "vehs/identify/identify.hpp"
+#include "vehs/io/model_file.hpp"
+#include "vehs/sim/simulate.hpp"
+#include "stat_bounds.hpp"
+
+namespace score_test {
+
+enum class Potential { Bistable, Tristable, Pentastable };
+
+/// The potential's restoring terms (drift = −U'(x)) as JSON members.
+inline std::string potential_terms(Potential p) {
+  switch (p) {
+    case Potential::Bistable: return R"J("x": 1.0, "x^3": -1.0)J";
+    case Potential::Tristable: return R"J("x": -1.0, "x^3": 2.5, "x^5": -1.0)J";  // wells 0, ±√2
+    case Potential::Pentastable:  // U' = x(x²−1)(x²−2.25)(x²−4)(x²−6.25)/20: wells 0, ±1.5, ±2.5
+      return R"J("x": -2.8125, "x^3": 5.215625, "x^5": -3.028125, "x^7": 0.675, "x^9": -0.05)J";
+  }
+  return "";
+}
+
+inline std::vector<std::string> potential_library(Potential p) {
+  switch (p) {
+    case Potential::Bistable: return {"x", "x^3"};
+    case Potential::Tristable: return {"x", "x^3", "x^5"};
+    case Potential::Pentastable: return {"x", "x^3", "x^5", "x^7", "x^9"};
+  }
+  return {};
+}
+
+struct HiddenCase {
+  std::string name;       ///< the hidden effect ("none": control)
+  Potential potential = Potential::Bistable;
+  double beta = 0.1, two_d = 0.04;
+  std::string effect;     ///< JSON of the effects array entry ("" : none)
+  std::string extra_drift, extra_diffusion;  ///< term-like effects as JSON members
+  bool phase_per_record = false;             ///< harmonic forcing: random phase per record
+  int records = 32;
+  std::size_t samples = 4000;
+  double dt = 0.05;
+};
+
+inline vehs::Model truth_of(const HiddenCase& c, double phase = 0.0) {
+  std::string drift = potential_terms(c.potential) + ", \"y\": " + std::to_string(-c.beta);
+  if (!c.extra_drift.empty()) drift += ", " + c.extra_drift;
+  std::string diffusion = "\"1\": " + std::to_string(c.two_d);
+  if (!c.extra_diffusion.empty()) diffusion += ", " + c.extra_diffusion;
+  std::string effects = c.effect;
+  if (c.phase_per_record) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.17g", phase);
+    effects += std::string(", \"phase\": ") + buf + "}}";
+  }
+  const std::string json = "{\"drift\": {" + drift + "}, \"diffusion\": {" + diffusion + "}, \"effects\": [" +
+                           effects + "]}";
+  return vehs::model_from_json(nlohmann::json::parse(json), "hidden-effect truth");
+}
+
+/// The cases of issue 13's table (parameters from the issue; potentials varied).
+inline std::vector<HiddenCase> hidden_cases() {
+  std::vector<HiddenCase> v;
+  auto add = [&](HiddenCase c) { v.push_back(std::move(c)); };
+  auto make = [](const std::string& name, Potential p, double beta = 0.1, double two_d = 0.04) {
+    HiddenCase c;
+    c.name = name;
+    c.potential = p;
+    c.beta = beta;
+    c.two_d = two_d;
+    return c;
+  };
+  add(make("none", Potential::Bistable));
+  add(make("none_tristable", Potential::Tristable, 0.1, 0.05));
+  add(make("none_pentastable", Potential::Pentastable, 0.1, 0.2));
+  {
+    HiddenCase c = make("coulomb_friction", Potential::Bistable);
+    c.extra_drift = "\"sign(y)\": -0.03";
+    add(c);
+  }
+  {
+    HiddenCase c = make("quadratic_damping", Potential::Tristable, 0.1, 0.05);
+    c.extra_drift = R"J("y*|y|": -0.3)J";
+    add(c);
+  }
+  {
+    HiddenCase c = make("nonlinear_damping", Potential::Bistable);
+    c.extra_drift = R"J("y^3": -0.3)J";
+    add(c);
+  }
+  {
+    HiddenCase c = make("velocity_dependent_noise", Potential::Pentastable, 0.1, 0.2);
+    c.extra_diffusion = R"J("y^2": 0.1)J";
+    add(c);
+  }
+  {
+    HiddenCase c = make("colored_noise", Potential::Bistable);
+    c.effect = R"J({"name": "colored_noise", "params": {"tau": 0.6, "intensity": 0.04}})J";
+    c.two_d = 0.01;
+    add(c);
+  }
+  {
+    HiddenCase c = make("electromechanical_coupling", Potential::Bistable);
+    c.effect = R"J({"name": "electromechanical_coupling", "params": {"lambda": 0.8, "coupling": 0.5}})J";
+    add(c);
+  }
+  {
+    HiddenCase c = make("impact_stop", Potential::Tristable, 0.1, 0.05);
+    c.effect = R"J({"name": "impact_stop", "params": {"k_stop": 5.0, "gap": 1.6}})J";
+    add(c);
+  }
+  {
+    HiddenCase c = make("harmonic_forcing", Potential::Bistable);
+    c.effect = R"J({"name": "harmonic_forcing", "params": {"amplitude": 0.08, "omega": 0.9, "phase": 0.3}})J";
+    add(c);
+  }
+  {
+    HiddenCase c = make("harmonic_forcing_per_record", Potential::Bistable);
+    c.effect = R"J({"name": "harmonic_forcing", "params": {"amplitude": 0.08, "omega": 0.9)J";
+    c.phase_per_record = true;
+    add(c);
+  }
+  return v;
+}
+
+/// The likelihood's name of the hidden effect's parameter (the oracle's z is taken of it).
+inline std::string oracle_parameter(const HiddenCase& c) {
+  if (c.name == "coulomb_friction") return "drift[sign(y)]";
+  if (c.name == "quadratic_damping") return "drift[y*|y|]";
+  if (c.name == "nonlinear_damping") return "drift[y^3]";
+  if (c.name == "velocity_dependent_noise") return "diffusion[y^2]";
+  if (c.name == "colored_noise") return "colored_noise.intensity";
+  if (c.name == "electromechanical_coupling") return "electromechanical_coupling.coupling";
+  if (c.name == "impact_stop") return "impact_stop.k_stop";
+  if (c.name.rfind("harmonic_forcing", 0) == 0) return "harmonic_forcing.amplitude";
+  return "";
+}
+
+/// The records of a hidden case: one simulation per record when the phase is random per record.
+inline vehs::Dataset hidden_data(const HiddenCase& c, std::uint64_t seed) {
+  vehs::sim::SimulationOptions o;
+  o.dt = c.dt;
+  o.substeps = 20;
+  o.scheme = vehs::sim::Scheme::Taylor15;
+  o.samples = c.samples;
+  o.burn_in = 50.0;
+  o.record_y = false;
+  o.x0.lo = -1.0, o.x0.hi = 1.0;
+  o.seed = vehs_test::seed(seed);
+  if (!c.phase_per_record) {
+    o.records = c.records;
+    return vehs::sim::simulate(truth_of(c), o);
+  }
+  std::mt19937_64 rng(o.seed);
+  std::uniform_real_distribution<double> phase(0.0, 2.0 * M_PI);
+  vehs::Dataset all;
+  o.records = 1;
+  for (int r = 0; r < c.records; ++r) {
+    o.first_record = std::uint64_t(r);
+    all.append(vehs::sim::simulate(truth_of(c, phase(rng)), o));
+  }
+  return all;
+}
+
+/// identify's options for the baseline: the potential's terms, linear damping, constant noise.
+inline vehs::identify::Options baseline_options_for(const HiddenCase& c) {
+  vehs::identify::Options o;
+  o.drift_library.clear();
+  for (const auto& t : potential_library(c.potential)) o.drift_library.push_back(vehs::Term::parse(t));
+  o.drift_library.push_back(vehs::Term::parse("y"));
+  o.diffusion_library = {vehs::Term::parse("1")};
+  o.sparsity = vehs::identify::Sparsity::None;
+  return o;
+}
+
+}  // namespace score_test
