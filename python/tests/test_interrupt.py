@@ -1,0 +1,39 @@
+"""Ctrl-C (SIGINT -> KeyboardInterrupt) stops a long simulation cleanly: every thread stops at its
+next chunk, the exception is KeyboardInterrupt, and the library works normally afterwards."""
+import os
+import signal
+import threading
+import time
+
+import pytest
+
+import vehs
+
+MODEL = vehs.Model.paper(0.1, {1: -1.0, 3: 1.0}, 0.02, 0.01)
+
+
+def test_keyboard_interrupt_stops_a_long_simulate():
+    # 8 records x 10^7 samples x 20 substeps: about a minute of work (640 MB of records)
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    start = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        vehs.simulate(MODEL, trajectories=8, duration=1e5, dt=0.01, substeps=20, record_velocity=False)
+    elapsed = time.perf_counter() - start
+    timer.join()
+    assert elapsed < 5.0, elapsed
+    r = vehs.simulate(MODEL, trajectories=2, duration=1, dt=0.01)  # still usable
+    assert r.x.shape == (2, 100)
+
+
+def test_progress_callback_sees_the_work_and_its_exceptions_propagate():
+    events = []
+    vehs.simulate(MODEL, trajectories=4, duration=100, dt=0.01, progress=lambda *e: events.append(e))
+    assert events and events[-1][0] == "simulate" and events[-1][3] is True
+    assert events[-1][1] == events[-1][2] == 4 * 9999
+
+    def boom(*event):
+        raise RuntimeError("stop here")
+
+    with pytest.raises(RuntimeError, match="stop here"):
+        vehs.simulate(MODEL, trajectories=4, duration=1000, dt=0.01, progress=boom)
