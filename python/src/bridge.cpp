@@ -6,6 +6,19 @@
 
 namespace vehs::python {
 
+namespace {
+// Set by the SIGINT handler installed during calls from the main thread (lock-free: async-signal-safe).
+std::atomic<bool> g_sigint{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+extern "C" void on_sigint(int) { g_sigint.store(true); }
+
+bool on_main_thread() {
+  nb::module_ threading = nb::module_::import_("threading");
+  return threading.attr("current_thread")().is(threading.attr("main_thread")());
+}
+}  // namespace
+
 tools::Config config_from_json(const std::string& options_json, const std::string& where,
                                const tools::ConfigSchema& schema, const std::vector<std::string>& excluded) {
   nlohmann::json j;
@@ -25,46 +38,63 @@ tools::Config config_from_json(const std::string& options_json, const std::strin
 std::string json_text(const nlohmann::ordered_json& j) { return j.dump(); }
 
 ProgressBridge::ProgressBridge(nb::object callable, bool cancel)
-    : callable_(std::move(callable)), cancel_(cancel) {}
+    : callable_(std::move(callable)), cancel_(cancel) {
+  if (!on_main_thread()) return;
+  g_sigint.store(false);
+  struct sigaction action {};
+  action.sa_handler = on_sigint;
+  sigemptyset(&action.sa_mask);
+  handler_installed_ = sigaction(SIGINT, &action, &previous_) == 0;
+}
 
 ProgressBridge::~ProgressBridge() {
+  restore_handler();
   Py_XDECREF(type_);
   Py_XDECREF(value_);
   Py_XDECREF(traceback_);
 }
+
+void ProgressBridge::restore_handler() {
+  if (!handler_installed_) return;
+  sigaction(SIGINT, &previous_, nullptr);
+  handler_installed_ = false;
+}
+
+bool ProgressBridge::stopped() const { return stopped_.load() || (handler_installed_ && g_sigint.load()); }
 
 ProgressCallback ProgressBridge::callback() {
   return [this](const ProgressEvent& e) { on_event(e); };
 }
 
 void ProgressBridge::on_event(const ProgressEvent& e) {
-  if (stopped_.load()) {
-    if (cancel_ && !e.finished) throw Error("interrupted");
-    return;
-  }
-  {
+  if (!stopped() && callable_.is_valid() && !callable_.is_none()) {
     nb::gil_scoped_acquire gil;
-    bool failed = PyErr_CheckSignals() != 0;  // runs the handlers on the main thread only
-    if (!failed && callable_.is_valid() && !callable_.is_none()) {
-      PyObject* r = PyObject_CallFunction(callable_.ptr(), "s#LLOd", e.task.data(),
-                                          static_cast<Py_ssize_t>(e.task.size()), e.done, e.total,
-                                          e.finished ? Py_True : Py_False, e.seconds);
-      failed = r == nullptr;
-      Py_XDECREF(r);
+    PyObject* task = PyUnicode_FromStringAndSize(e.task.data(), static_cast<Py_ssize_t>(e.task.size()));
+    PyObject* r = task ? PyObject_CallFunction(callable_.ptr(), "OLLOd", task, e.done, e.total,
+                                               e.finished ? Py_True : Py_False, e.seconds)
+                       : nullptr;
+    Py_XDECREF(task);
+    if (r == nullptr) {
+      PyErr_Fetch(&type_, &value_, &traceback_);
+      stopped_.store(true);
     }
-    if (!failed) return;
-    PyErr_Fetch(&type_, &value_, &traceback_);
-    stopped_.store(true);
+    Py_XDECREF(r);
   }
-  if (cancel_ && !e.finished) throw Error("interrupted");
+  if (cancel_ && !e.finished && stopped()) throw Error("interrupted");
 }
 
 void ProgressBridge::finish() {
-  if (!stopped_.load() && PyErr_CheckSignals() != 0) throw nb::python_error();
-  if (!stopped_.load() || type_ == nullptr) return;
-  PyErr_Restore(type_, value_, traceback_);
-  type_ = value_ = traceback_ = nullptr;
-  throw nb::python_error();
+  const bool interrupted = handler_installed_ && g_sigint.load();
+  restore_handler();
+  if (interrupted) {
+    std::raise(SIGINT);  // to Python's own handler, which PyErr_CheckSignals then runs
+    if (PyErr_CheckSignals() != 0) throw nb::python_error();
+  }
+  if (type_ != nullptr) {
+    PyErr_Restore(type_, value_, traceback_);
+    type_ = value_ = traceback_ = nullptr;
+    throw nb::python_error();
+  }
 }
 
 }  // namespace vehs::python

@@ -1,10 +1,11 @@
 #pragma once
 // Glue between Python and the library: configs from keyword arguments (the executables' key
 // tables, so that Python and the CLI take the same keys and give the same one-line errors),
-// JSON in and out, and the progress callback that also polls Ctrl-C.
+// JSON in and out, and the progress callback that also watches for Ctrl-C.
 #include <atomic>
-#include <type_traits>
+#include <csignal>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <nanobind/nanobind.h>
@@ -25,11 +26,14 @@ tools::Config config_from_json(const std::string& options_json, const std::strin
 /// nlohmann JSON as text for Python's json.loads (one conversion at the boundary).
 std::string json_text(const nlohmann::ordered_json& j);
 
-/// Forwards the library's progress events to a Python callable (or none) and, on the Python
-/// main thread, polls for Ctrl-C (PyErr_CheckSignals) with the GIL briefly re-acquired. Once a
-/// signal or an exception of the callable is caught it is kept, further events are ignored, and
-/// with `cancel` the next intermediate event throws vehs::Error("interrupted"), which the
-/// simulator turns into a clean stop of every thread. finish() restores the kept exception.
+/// Forwards the library's progress events to a Python callable (or none), with the GIL briefly
+/// re-acquired, and watches for Ctrl-C. Python runs its signal handlers only on the main thread,
+/// which may sit idle in an OpenMP barrier while other threads work, so during a call made from
+/// the main thread SIGINT goes to a handler of our own that only sets a flag, which every event
+/// sees on whatever thread it comes. Once Ctrl-C or an exception of the callable is seen, further
+/// events are not forwarded and, with `cancel`, the next intermediate event throws
+/// vehs::Error("interrupted"), which the simulator turns into a clean stop of every thread.
+/// finish() restores the Python handler, hands it the signal, and raises what was caught.
 class ProgressBridge {
  public:
   ProgressBridge(nb::object callable, bool cancel);
@@ -39,22 +43,27 @@ class ProgressBridge {
 
   /// The callback for the library's options (valid while this bridge lives).
   ProgressCallback callback();
-  /// With the GIL held: polls once more and throws nb::python_error for a kept exception.
+  /// With the GIL held: restores the SIGINT handler and throws nb::python_error for a caught
+  /// Ctrl-C (KeyboardInterrupt, or what the Python handler raises) or exception of the callable.
   void finish();
-  bool stopped() const { return stopped_.load(); }
+  bool stopped() const;
 
  private:
   void on_event(const ProgressEvent& e);
+  void restore_handler();
   nb::object callable_;
   bool cancel_;
+  bool handler_installed_ = false;
+  struct sigaction previous_ {};
   std::atomic<bool> stopped_{false};
   PyObject* type_ = nullptr;
   PyObject* value_ = nullptr;
   PyObject* traceback_ = nullptr;
 };
 
-/// Runs `work` with the GIL released and progress bridged; rethrows a Ctrl-C or an exception of
-/// the progress callable as the Python exception it was, else the library's own exceptions.
+/// Runs `work(progress callback)` with the GIL released and progress bridged; rethrows a Ctrl-C
+/// or an exception of the progress callable as the Python exception it was, else the library's
+/// own exceptions.
 template <class Work>
 auto run_released(nb::object progress, bool cancel, Work&& work) {
   ProgressBridge bridge(std::move(progress), cancel);
@@ -74,8 +83,10 @@ auto run_released(nb::object progress, bool cancel, Work&& work) {
       bridge.finish();
       return result;
     }
+  } catch (const nb::python_error&) {
+    throw;
   } catch (const std::exception&) {
-    if (bridge.stopped()) bridge.finish();  // the interrupt, not the library's "interrupted"
+    bridge.finish();  // a Ctrl-C behind the library's "interrupted" surfaces as itself
     throw;
   }
 }

@@ -31,7 +31,7 @@ def test_records_from_arrays_copy_once_then_identify_reads_them_in_place():
 
 
 def test_stationary_density_is_a_view():
-    s = vehs.stationary(MODEL, grid={"x": 40, "y": 40})
-    assert s.density.shape == (40, 40)
+    s = vehs.stationary(MODEL, grid={"x": 100, "y": 100})
+    assert s.density.shape == (100, 100)
     assert address(s.density) == s._core.address()
     assert abs(s.density.sum() * (s.x[1] - s.x[0]) * (s.y[1] - s.y[0]) - 1.0) < 1e-9

@@ -20,10 +20,11 @@ def test_builder_matches_paper_and_file_format(tmp_path, repo):
 def test_parameters_by_physical_name():
     m = vehs.Model(drift={"x": -1.0, "x^3": 1.0}, parameters={"beta": 0.1}, diffusion={"1": 0.02},
                    effects={"coulomb_friction": {"mu": 0.05}})
-    assert m["beta"] == 0.1 and m["k3"] == -1.0 and m["2D"] == 0.02 and m["mu"] == 0.05
+    assert m["beta"] == 0.1 and m["k3"] == -1.0 and m["2D"] == 0.02
+    assert m["drift[sign(y)]"] == -0.05  # a term-like effect is its terms
     m2 = m.with_parameter("2D", 0.03)
     assert m2["2D"] == 0.03 and m["2D"] == 0.02
-    assert m.b2(0.5, 0.2) == pytest.approx(0.5 - 0.125 - 0.1 * 0.2 - 0.05)
+    assert m.b2(0.5, 0.2) == pytest.approx(-0.5 + 0.125 - 0.1 * 0.2 - 0.05)
 
 
 def test_bad_models_raise_one_line_errors():

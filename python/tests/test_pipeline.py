@@ -15,7 +15,7 @@ def paper(repo, tmp_path_factory, cli):
     work = tmp_path_factory.mktemp("paper")
     cli("simulate-vehs", dict(SIM, model="data/paper/truth.json", output=str(work / "m.npy")), work)
     cli("identify-vehs", {"data": [str(work / "m.npy")], "output": str(work / "learned.json")}, work)
-    cli("fpk-stationary", {"model": str(work / "learned.json"), "grid": {"x": 120, "y": 120},
+    cli("fpk-stationary", {"model": "data/fpk/learned_model.json", "grid": {"x": 200, "y": 200},
                            "output": str(work / "fpk.json")}, work)
     return work
 
@@ -43,10 +43,10 @@ def test_identify_gives_the_cli_model(repo, paper):
         assert report["estimator"]["used"] == cli_model["estimator"]["used"]
 
 
-def test_stationary_gives_the_cli_moments(paper):
+def test_stationary_gives_the_cli_moments(repo, paper):
     import json
 
     cli_fpk = json.loads((paper / "fpk.json").read_text())
-    s = vehs.stationary(vehs.Model.load(paper / "learned.json"), grid={"x": 120, "y": 120})
-    assert s.moments["E[Y^2]"] == cli_fpk["moments"]["E[Y^2]"]
-    assert s.moments["E[X^2]"] == cli_fpk["moments"]["E[X^2]"]
+    s = vehs.stationary(vehs.Model.load(repo / "data/fpk/learned_model.json"), grid={"x": 200, "y": 200})
+    assert s.moments["E[Y^2]"] == cli_fpk["E[Y^2]"]
+    assert s.moments["E[X^2]"] == cli_fpk["E[X^2]"]

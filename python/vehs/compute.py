@@ -64,7 +64,7 @@ class Stationary:
 
 
 def _centres(axis):
-    lo, hi, n = axis["min"], axis["max"], axis["n"]
+    lo, hi, n = axis
     return lo + (np.arange(n) + 0.5) * (hi - lo) / n
 
 
@@ -79,7 +79,7 @@ def stationary(model, grid=None, progress=None, **options):
     g = summary["grid"]
     x, y = _centres(g["x"]), _centres(g["y"])
     return Stationary(density=core.density.reshape(x.size, y.size), x=x, y=y, marginal_x=core.marginal_x,
-                      marginal_y=core.marginal_y, moments=summary["moments"], summary=summary, _core=core)
+                      marginal_y=core.marginal_y, moments={k: v for k, v in summary.items() if k.startswith("E[")}, summary=summary, _core=core)
 
 
 def sweep(model, sweep, grid=None, progress=None, **options):
