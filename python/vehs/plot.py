@@ -46,6 +46,16 @@ def _unit_model(kind, term):
     return None
 
 
+def _model_curve(model, x, kind, ax, label):
+    """Draws b2(x, 0) or a22(x, 0) with its 2-SE band; returns the axes and the x values."""
+    ax = _axes(ax)
+    x = np.linspace(-1.6, 1.6, 401) if x is None else np.asarray(x)
+    value, band = _coefficient_band(model, x, kind)
+    ax.plot(x, value, label=label)
+    ax.fill_between(x, value - band, value + band, alpha=0.3, label="2 SE")
+    return ax, x
+
+
 def _kinematics(records):
     """x_i, central-difference velocity and acceleration of every record (stride 1)."""
     xs, vs, accs = [], [], []
@@ -86,11 +96,7 @@ def potential(model, x=None, ax=None, **plot):
 def drift(model, records=None, x=None, bins=40, ax=None, label="model"):
     """b2(x, 0) with a 2-SE band, and binned E[acceleration | x] from the records (which equals
     the restoring force b2(x, 0) in stationarity for drifts linear in y)."""
-    ax = _axes(ax)
-    x = np.linspace(-1.6, 1.6, 401) if x is None else np.asarray(x)
-    value, band = _coefficient_band(model, x, "drift")
-    ax.plot(x, value, label=label)
-    ax.fill_between(x, value - band, value + band, alpha=0.3, label="2 SE")
+    ax, x = _model_curve(model, x, "drift", ax, label)
     if isinstance(records, Records):
         xi, _, acc = _kinematics(records)
         c, m, e = _binned(xi, acc, np.linspace(x.min(), x.max(), bins + 1))
@@ -104,11 +110,7 @@ def drift(model, records=None, x=None, bins=40, ax=None, label="model"):
 def diffusion(model, records=None, x=None, bins=40, ax=None, label="model"):
     """a22(x, 0) with a 2-SE band, and the binned ULI estimate (3/2) dt E[(a - b2(x, v))^2 | x]
     from the records (continuous-time sampling)."""
-    ax = _axes(ax)
-    x = np.linspace(-1.6, 1.6, 401) if x is None else np.asarray(x)
-    value, band = _coefficient_band(model, x, "diffusion")
-    ax.plot(x, value, label=label)
-    ax.fill_between(x, value - band, value + band, alpha=0.3, label="2 SE")
+    ax, x = _model_curve(model, x, "diffusion", ax, label)
     if isinstance(records, Records):
         xi, vi, acc = _kinematics(records)
         stride = max(1, xi.size // 200000)  # b2 is evaluated per sample in Python: subsample
