@@ -56,16 +56,27 @@ def _model_curve(model, x, kind, ax, label):
     return ax, x
 
 
-def _kinematics(records):
-    """x_i, central-difference velocity and acceleration of every record (stride 1)."""
+def _kinematics(records, model):
+    """x, velocity and acceleration of every record, by the differences the model was fitted
+    with: forward ((x[i+1] - x[i]) / dt, ...) for the forward and paper estimators (data from a
+    scheme at the recorded step), else central (ULI: a sensor sampling a continuous process).
+    Also the factor c with a22 = c dt E[(a - b2)^2 | x] (1 forward, 3/2 central)."""
+    used = (model.to_dict().get("estimator") or {}).get("used", "uli")
+    forward = used in ("forward", "paper")
     xs, vs, accs = [], [], []
     x = records.x if records.x.ndim == 2 else [records.x]
     dt = records.dt
     for r in x:
-        xs.append(r[1:-1])
-        vs.append((r[2:] - r[:-2]) / (2 * dt))
-        accs.append((r[2:] - 2 * r[1:-1] + r[:-2]) / dt ** 2)
-    return np.concatenate(xs), np.concatenate(vs), np.concatenate(accs)
+        if forward:
+            v = np.diff(r) / dt
+            xs.append(r[:-2])
+            vs.append(v[:-1])
+            accs.append(np.diff(v) / dt)
+        else:
+            xs.append(r[1:-1])
+            vs.append((r[2:] - r[:-2]) / (2 * dt))
+            accs.append((r[2:] - 2 * r[1:-1] + r[:-2]) / dt ** 2)
+    return np.concatenate(xs), np.concatenate(vs), np.concatenate(accs), 1.0 if forward else 1.5
 
 
 def _binned(x, values, edges):
@@ -98,7 +109,7 @@ def drift(model, records=None, x=None, bins=40, ax=None, label="model"):
     the restoring force b2(x, 0) in stationarity for drifts linear in y)."""
     ax, x = _model_curve(model, x, "drift", ax, label)
     if isinstance(records, Records):
-        xi, _, acc = _kinematics(records)
+        xi, _, acc, _ = _kinematics(records, model)
         c, m, e = _binned(xi, acc, np.linspace(x.min(), x.max(), bins + 1))
         ax.errorbar(c, m, yerr=2 * e, fmt=".", label="binned data")
     ax.set_xlabel("x")
@@ -108,15 +119,15 @@ def drift(model, records=None, x=None, bins=40, ax=None, label="model"):
 
 
 def diffusion(model, records=None, x=None, bins=40, ax=None, label="model"):
-    """a22(x, 0) with a 2-SE band, and the binned ULI estimate (3/2) dt E[(a - b2(x, v))^2 | x]
-    from the records (continuous-time sampling)."""
+    """a22(x, 0) with a 2-SE band, and the binned estimate c dt E[(a - b2(x, v))^2 | x] from the
+    records (c = 1 with forward differences, 3/2 with ULI's central ones: see _kinematics)."""
     ax, x = _model_curve(model, x, "diffusion", ax, label)
     if isinstance(records, Records):
-        xi, vi, acc = _kinematics(records)
+        xi, vi, acc, factor = _kinematics(records, model)
         stride = max(1, xi.size // 200000)  # b2 is evaluated per sample in Python: subsample
         xi, vi, acc = xi[::stride], vi[::stride], acc[::stride]
         resid = acc - np.array([model.b2(a, b) for a, b in zip(xi, vi)])
-        c, m, e = _binned(xi, 1.5 * records.dt * resid ** 2, np.linspace(x.min(), x.max(), bins + 1))
+        c, m, e = _binned(xi, factor * records.dt * resid ** 2, np.linspace(x.min(), x.max(), bins + 1))
         ax.errorbar(c, m, yerr=2 * e, fmt=".", label="binned data")
     ax.set_xlabel("x")
     ax.set_ylabel("a22(x, 0)")
@@ -151,7 +162,7 @@ def suspects(diagnosis, ax=None):
     ax = _axes(ax, figsize=(7, 0.4 * (len(diagnosis.suspects) + 2)))
     rows = []
     for s in diagnosis.suspects:
-        params = ", ".join(f"{k} = {v:.3g}" for k, v in (s.get("params") or {}).items())
+        params = ", ".join(f"{k} = {v:.3g}" for k, v in list((s.get("params") or {}).items())[:3])
         rows.append([s["effect"], f"{float(s['evidence']):.1f}", f"{float(s['z']):.1f}",
                      "yes" if s.get("significant") else "", params])
     ax.axis("off")
@@ -161,6 +172,7 @@ def suspects(diagnosis, ax=None):
                          loc="center")
         table.auto_set_font_size(False)
         table.set_fontsize(8)
+        table.auto_set_column_width(col=list(range(5)))
     return ax
 
 

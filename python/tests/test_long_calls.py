@@ -1,5 +1,6 @@
-"""Ctrl-C (SIGINT -> KeyboardInterrupt) stops a long simulation cleanly: every thread stops at its
-next chunk, the exception is KeyboardInterrupt, and the library works normally afterwards."""
+"""Long calls: Ctrl-C (SIGINT -> KeyboardInterrupt) stops a simulation cleanly (every thread stops
+at its next chunk, the library works normally afterwards); the GIL is released while the library
+works; progress reaches a Python callback, whose exceptions propagate."""
 import os
 import signal
 import threading
@@ -38,3 +39,16 @@ def test_progress_callback_sees_the_work_and_its_exceptions_propagate():
 
     with pytest.raises(RuntimeError, match="stop here"):
         vehs.simulate(MODEL, trajectories=4, duration=1000, dt=0.01, progress=boom)
+
+
+def test_the_gil_is_released_while_the_library_works():
+    spins = [0]
+    marks = []  # the main thread's spin count at each progress event (inside the library's call)
+    worker = threading.Thread(target=vehs.simulate, args=(MODEL,),
+                              kwargs=dict(trajectories=8, duration=1e4, dt=0.01, substeps=10, record_velocity=False,
+                                          progress=lambda *event: marks.append(spins[0])))
+    worker.start()
+    while worker.is_alive():
+        spins[0] += 1  # runs only while the simulating thread does not hold the GIL
+    worker.join()
+    assert len(marks) >= 2 and marks[-1] - marks[0] > 1000, marks[:3] + marks[-3:]
