@@ -45,7 +45,7 @@ def test_the_gil_is_released_while_the_library_works():
     spins = [0]
     marks = []  # the main thread's spin count at each progress event (inside the library's call)
     worker = threading.Thread(target=vehs.simulate, args=(MODEL,),
-                              kwargs=dict(trajectories=8, duration=1e4, dt=0.01, substeps=10, record_velocity=False,
+                              kwargs=dict(trajectories=8, duration=1e3, dt=0.01, substeps=10, record_velocity=False,
                                           progress=lambda *event: marks.append(spins[0])))
     worker.start()
     while worker.is_alive():
