@@ -36,12 +36,18 @@ def test_dask_sweep_equals_the_cli_sweep(repo, tmp_path, cli, client):
     assert local["points"] == ref["points"]
 
 
-def test_dask_ensemble_equals_one_run(client):
+def test_dask_ensemble_equals_one_run_and_the_cli(client, cli, tmp_path):
     model = vehs.Model.paper(0.1, {1: -1.0, 3: 1.0}, 0.02, 0.01)
-    opts = dict(duration=50, dt=0.01, substeps=2, seed=9, statistics={"discard": 5})
-    one = vehs.monte_carlo(model, trajectories=20, **opts)
-    merged = vehs.dask.ensemble(client, model, 20, block=7, **opts)
+    model.save(tmp_path / "model.json")
+    opts = dict(duration=50, dt=0.01, substeps=2, seed=9)
+    stats = {"discard": 5, "grid": {"x": [-2, 2, 20], "y": [-2, 2, 20]}}
+    cli("simulate-vehs", dict(opts, model=str(tmp_path / "model.json"), trajectories=20,
+                              statistics=dict(stats, output=str(tmp_path / "mc.json"))), tmp_path)
+    ref = json.loads((tmp_path / "mc.json").read_text())
+    one = vehs.monte_carlo(model, trajectories=20, statistics=stats, **opts)
+    merged = vehs.dask.ensemble(client, model, 20, block=7, statistics=stats, **opts)  # blocks of 7, 7, 6
     for name in ("E[X^2]", "E[Y^2]", "E[XY]", "E[X^4]"):
-        assert merged[name] == one[name]
-        assert merged["stderr"][name] == one["stderr"][name]
+        assert merged[name] == one[name] == ref[name]
+        assert merged["stderr"][name] == one["stderr"][name] == ref["stderr"][name]
     assert merged["record_means"] == one["record_means"]
+    assert merged["counts"] == one["counts"]  # histograms: the same counts

@@ -37,9 +37,10 @@ def test_identify_gives_the_cli_model(repo, paper):
         assert set(d["drift"]) == set(cli_model["drift"]) and set(d["diffusion"]) == set(cli_model["diffusion"])
         for part in ("drift", "diffusion"):
             for term, c in cli_model[part].items():
-                # the CLI's dt comes from the file's t column: equal up to its rounding
-                assert d[part][term] == pytest.approx(c, rel=1e-9, abs=1e-12), (part, term)
-                assert d["stderr"][part][term] == pytest.approx(cli_model["stderr"][part][term], rel=1e-6)
+                # bitwise: the same records, the same estimator code, the same dt (the CLI's from
+                # the file's t column, which holds i * dt exactly enough to give dt back)
+                assert d[part][term] == c, (part, term)
+                assert d["stderr"][part][term] == cli_model["stderr"][part][term], (part, term)
         assert report["estimator"]["used"] == cli_model["estimator"]["used"]
 
 
