@@ -5,7 +5,8 @@
 #                                     prints the venv's python.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-venv="$1/python-venv"
+mkdir -p "$1"
+venv="$(cd "$1" && pwd)/python-venv"
 if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv" >&2
 fi
