@@ -12,6 +12,8 @@ packages=(
   gnuplot-nox chromium
   # scripts/simd_compare.py (the SIMD-width check of .ci/run; standard library only)
   python3
+  # the Python package (python/): its virtual environment and the extension's headers
+  python3-venv python3-dev
   # an optimised BLAS for UMFPACK's dense kernels (Debian's BLAS alternative: libsuitesparse
   # links libblas.so.3, which this package provides with priority over the reference BLAS;
   # the serial variant, because vehs parallelises over sweep points itself)

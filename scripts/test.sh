@@ -1,11 +1,25 @@
 #!/usr/bin/env bash
-# Installs missing dependencies, builds, and runs the whole test suite (ctest over Catch2).
+# Installs missing dependencies, builds, and runs the whole test suite: ctest over Catch2, then the
+# Python package's pytest suite (python/tests) in a virtual environment kept in the build folder.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-"$root/scripts/build.sh" vehs_test_targets  # the library, the executables and the tests (not bench/)
-cd "$root/build"
+build="${VEHS_BUILD_DIR:-$root/build}"
+"$root/scripts/install-deps.sh"
+mkdir -p "$build"
+python="$("$root/scripts/python-env.sh" "$build")"
+# the library, the executables, the tests (not bench/) and the Python extension, in one build
+VEHS_CMAKE_ARGS="${VEHS_CMAKE_ARGS:-} -DVEHS_PYTHON=ON -DPython_EXECUTABLE=$python" \
+  "$root/scripts/build.sh" vehs_test_targets _vehs
+cd "$build"
 # ctest -j2 runs two 2-thread tests on 2 cores: OpenMP threads that spin while waiting steal the
 # cores from the working ones (measured, fresh ctest order: suite 4m09 with spinning waits, 3m10 with
 # passive ones)
 export OMP_WAIT_POLICY=PASSIVE
 ctest -j "$(nproc)" --output-on-failure --timeout 900
+# The package into the venv with pip (scikit-build-core), reusing this build folder: only the
+# extension module is (re)linked; the tools and test settings of the build are kept.
+"$python" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps --force-reinstall \
+  --config-settings=build-dir="$build" --config-settings=cmake.define.VEHS_BUILD_TESTS=ON --config-settings=cmake.define.VEHS_BUILD_BENCH=ON \
+  --config-settings=cmake.define.Python_EXECUTABLE="$python" "$root/python"
+cd "$root"
+VEHS_BIN_DIR="$build" VEHS_REQUIRE_CLI=1 "$python" -m pytest -q -p no:cacheprovider "$root/python/tests"

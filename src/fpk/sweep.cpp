@@ -92,7 +92,13 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
         cache_error = e.what();
       }
     }
-  vehs::detail::ProgressCounter prog(sweep_options.progress, "fpk sweep", static_cast<long long>(count));
+  const std::size_t block_first = std::min(sweep_options.block_first, count);
+  const std::size_t block_last =
+      sweep_options.block_last == 0 ? count : std::clamp(sweep_options.block_last, block_first, count);
+  for (std::size_t k = 0; k < count; ++k)
+    if (k < block_first || k >= block_last) out.points[k].error = "outside the block";
+  vehs::detail::ProgressCounter prog(sweep_options.progress, "fpk sweep",
+                                     static_cast<long long>(block_last - block_first));
   int threads_used = 1;
 #pragma omp parallel
   {
@@ -103,7 +109,7 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
     DirectSolverCache cache;
     if (have_analysis) cache.share_analysis(shared);
 #pragma omp for schedule(dynamic, 1)
-    for (long long kk = 0; kk < static_cast<long long>(count); ++kk) {
+    for (long long kk = static_cast<long long>(block_first); kk < static_cast<long long>(block_last); ++kk) {
       const auto k = static_cast<std::size_t>(kk);
       SweepPoint& pt = out.points[k];
       if (pt.error.empty()) {

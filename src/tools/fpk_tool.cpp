@@ -157,14 +157,9 @@ const ConfigSchema& fpk_schema() {
   return schema;
 }
 
-int run_fpk(Config& cfg, const AppOptions& app) {
-  const ModelFile model_file = model_from_config_value(cfg.raw("model"), cfg.where("model"));
-  const Model& model = model_file.model;
-  const std::string model_where =
-      cfg.raw("model").is_string() ? cfg.raw("model").get<std::string>() : cfg.where("model");
-  const FpkModel fm(model, model_where);
-  const std::string output = cfg.string("output");
-  SolveOptions opt;
+FpkSettings fpk_settings(const Config& cfg) {
+  FpkSettings st;
+  SolveOptions& opt = st.solve;
   opt.scheme = enum_from_string(kSchemeNames, cfg.string_or("scheme", "flux"), cfg.where("scheme"));
   opt.solver = enum_from_string(kSolverNames, cfg.string_or("solver", "direct"), cfg.where("solver"));
   opt.ordering = enum_from_string(kOrderingNames, cfg.string_or("ordering", "auto"), cfg.where("ordering"));
@@ -184,12 +179,26 @@ int run_fpk(Config& cfg, const AppOptions& app) {
     opt.iterative.fill_factor = static_cast<int>(s.integer_at_least("fill_factor", 1, opt.iterative.fill_factor));
   }
   if (auto why = opt.invalid_reason(); !why.empty()) throw Error(cfg.file() + ": " + why);
-  DomainOptions dom;
+  DomainOptions& dom = st.domain;
   dom.boundary_mass_tolerance = cfg.positive_or("boundary_mass_tolerance", dom.boundary_mass_tolerance);
   dom.log_density_drop = cfg.positive_or("auto_domain_efolds", dom.log_density_drop);
-  const GridRequest req = parse_grid(cfg);
-  std::vector<SweepAxis> axes;
-  if (cfg.has("sweep")) axes = parse_sweep(cfg);  // parse and check before the long solve
+  st.grid = parse_grid(cfg);
+  if (cfg.has("sweep")) st.axes = parse_sweep(cfg);  // parse and check before the long solve
+  return st;
+}
+
+int run_fpk(Config& cfg, const AppOptions& app) {
+  const ModelFile model_file = model_from_config_value(cfg.raw("model"), cfg.where("model"));
+  const Model& model = model_file.model;
+  const std::string model_where =
+      cfg.raw("model").is_string() ? cfg.raw("model").get<std::string>() : cfg.where("model");
+  const FpkModel fm(model, model_where);
+  const std::string output = cfg.string("output");
+  const FpkSettings st = fpk_settings(cfg);
+  const SolveOptions& opt = st.solve;
+  const DomainOptions& dom = st.domain;
+  const GridRequest& req = st.grid;
+  const std::vector<SweepAxis>& axes = st.axes;
   for (const auto& a : axes) {
     try {
       (void)get_parameter(model, a.name);

@@ -200,6 +200,36 @@ TEST_CASE("sweeps: one grid, results independent of the thread count and equal t
   CHECK_THROWS_WITH(sweep(base, {{"k4x", {1.0}}}, req), Contains("unknown"));
 }
 
+TEST_CASE("sweep blocks: a block's points equal the same points of the whole sweep", "[fpk][sweep]") {
+  // SweepOptions::block_first/last (vehs.dask.sweep): the grid envelope and the symbolic analysis
+  // come from every point, so blocks merged point by point are the whole sweep, bitwise
+  const vehs::Model base =
+      fpk_fixtures::model(R"({"drift": {"x": 1, "x^3": -1, "y": -0.3}, "diffusion": {"1": 0.0194, "x^2": 0.0116}})");
+  const std::vector<SweepAxis> axes = {{"2D", {0.015, 0.0194, 0.025}}, {"2Q", {0.008, 0.0116}}};
+  GridRequest req;
+  req.grid.x.n = req.grid.y.n = 80;
+  const SweepResult whole = sweep(base, axes, req);
+  for (const auto& [first, last] : std::vector<std::pair<std::size_t, std::size_t>>{{0, 2}, {2, 5}, {5, 6}, {4, 5}}) {
+    SweepOptions o;
+    o.block_first = first;
+    o.block_last = last;
+    const SweepResult part = sweep(base, axes, req, o);
+    CHECK(part.grid.x.min == whole.grid.x.min);
+    CHECK(part.grid.y.max == whole.grid.y.max);
+    for (std::size_t k = 0; k < 6; ++k) {
+      INFO("block [" << first << ", " << last << "), point " << k);
+      if (k < first || k >= last) {
+        CHECK(part.points[k].error == "outside the block");
+        continue;
+      }
+      CHECK(part.points[k].error.empty());
+      CHECK(part.points[k].moments.eyy == whole.points[k].moments.eyy);  // bitwise
+      CHECK(part.points[k].moments.exx == whole.points[k].moments.exx);
+      CHECK(part.points[k].boundary_mass == whole.points[k].boundary_mass);
+    }
+  }
+}
+
 TEST_CASE("parameters by name follow the contract's signs", "[fpk][sweep]") {
   vehs::Model m = fpk_fixtures::paper_learned();
   CHECK(vehs::get_parameter(m, "beta") == Approx(0.1010));

@@ -43,6 +43,11 @@ struct SweepOptions {
   SolveOptions solve;
   DomainOptions domain;
   ProgressCallback progress;  ///< task "fpk sweep", one event per point; empty: none
+  /// Solve only the points [block_first, block_last) of the product (block_last 0: to the end);
+  /// the others get the error "outside the block". The grid and the shared symbolic analysis
+  /// still come from every point, so a block's points equal the same points of the whole sweep
+  /// (a sweep split over processes or machines and merged point by point: vehs.dask.sweep).
+  std::size_t block_first = 0, block_last = 0;
   std::string invalid_reason() const;
 };
 SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const GridRequest& request,

@@ -1,0 +1,18 @@
+"""vehs from Python: stochastic vibration energy harvesters — simulate, identify, solve, diagnose.
+
+The library's own types and functions (a nanobind extension, ``vehs._vehs``), not a wrapper
+around the executables. Keyword options are the keys of the matching tool's JSON config
+(``simulate-vehs --help`` and friends), checked by the same code, so errors are the CLI's one-line
+messages (raised as :class:`vehs.Error`, a ``ValueError``).
+"""
+from ._vehs import Error, max_threads, set_threads
+from .model import Model
+from .records import Records, as_records
+from .compute import diagnose, identify, monte_carlo, simulate, stationary, sweep, Diagnosis, Stationary
+from .progress import tqdm_progress
+
+__all__ = [
+    "Error", "Model", "Records", "as_records", "simulate", "monte_carlo", "identify", "stationary",
+    "sweep", "diagnose", "Diagnosis", "Stationary", "set_threads", "max_threads", "tqdm_progress",
+]
+__version__ = "0.1.0"

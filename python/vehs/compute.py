@@ -1,0 +1,115 @@
+"""The library's computations: simulate, monte_carlo, identify, stationary, sweep, diagnose.
+
+Each takes the keys of its tool's config as keyword options; the GIL is released while the
+library works, ``progress(task, done, total, finished, seconds)`` is called as it goes, and
+Ctrl-C stops a simulation cleanly (KeyboardInterrupt).
+"""
+import json
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _vehs
+from .model import Model
+from .options import options_json
+from .records import Records, as_records
+
+
+def _core(model):
+    if not isinstance(model, Model):
+        raise TypeError(f"expected a vehs.Model, got {type(model).__name__}")
+    return model._core
+
+
+def simulate(model, progress=None, **options):
+    """Records of the model (simulate-vehs's keys: trajectories, duration, dt, substeps, scheme,
+    seed, x0, y0, burn_in, sensor_noise, record_velocity, first_record, ...). The arrays of the
+    returned Records are the simulator's own memory (no copy)."""
+    return Records(_vehs.simulate(_core(model), options_json("vehs.simulate", options), progress))
+
+
+def monte_carlo(model, progress=None, statistics=None, **options):
+    """Monte Carlo statistics while simulating (no records kept): simulate-vehs's keys with
+    ``statistics`` ({} for the defaults; discard, grid, batches). Returns simulate-vehs's
+    statistics JSON as a dict plus ``record_means`` (each record's mean of every moment)."""
+    options["statistics"] = {} if statistics is None else statistics
+    text = _vehs.monte_carlo(_core(model), options_json("vehs.monte_carlo", options), progress)
+    return json.loads(text)
+
+
+def identify(x, dt=None, u=None, progress=None, **options):
+    """Drift and diffusion from displacement records: ``(Model, report)``.
+
+    ``x``: Records (used in place), a 2-D array (records × samples), a 1-D array or a list of
+    1-D arrays (copied once). Options are identify-vehs's keys (estimator, drift_library,
+    diffusion_library, effects, sparsity, criterion, ...). The model carries the report sections,
+    so ``model.save(path)`` writes what identify-vehs writes (without its data/provenance)."""
+    records = as_records(x, dt, u)
+    core, report = _vehs.identify(records._core, options_json("vehs.identify", options), progress)
+    return Model(_core=core), json.loads(report)
+
+
+@dataclass
+class Stationary:
+    """A stationary density p(x, y) on cell centres x, y (density[i, j] at x[i], y[j])."""
+
+    density: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    marginal_x: np.ndarray
+    marginal_y: np.ndarray
+    moments: dict
+    summary: dict = field(repr=False)
+    _core: object = field(repr=False, default=None)
+
+
+def _centres(axis):
+    lo, hi, n = axis
+    return lo + (np.arange(n) + 0.5) * (hi - lo) / n
+
+
+def stationary(model, grid=None, progress=None, **options):
+    """The stationary Fokker-Planck density of the model (fpk-stationary's keys: grid, scheme,
+    solver, ordering, boundary_mass_tolerance, auto_domain_efolds, ...). The density array is the
+    solver's own memory (no copy)."""
+    if grid is not None:
+        options["grid"] = grid
+    core = _vehs.stationary(_core(model), options_json("vehs.stationary", options), progress)
+    summary = json.loads(core.summary())
+    g = summary["grid"]
+    x, y = _centres(g["x"]), _centres(g["y"])
+    return Stationary(density=core.density.reshape(x.size, y.size), x=x, y=y, marginal_x=core.marginal_x,
+                      marginal_y=core.marginal_y, moments={k: v for k, v in summary.items() if k.startswith("E[")}, summary=summary, _core=core)
+
+
+def sweep(model, sweep, grid=None, progress=None, **options):
+    """fpk-stationary's parameter sweep on this machine (both cores): ``sweep`` is
+    {name: [min, max, n] or {"values": [...]}} for one or two parameters. Returns the sweep
+    section fpk-stationary writes: parameters, grid, points (E[X^2], E[Y^2], ... per point)."""
+    options["sweep"] = sweep
+    if grid is not None:
+        options["grid"] = grid
+    return json.loads(_vehs.sweep(_core(model), options_json("vehs.sweep", options), 0, 0, progress))
+
+
+@dataclass
+class Diagnosis:
+    verdict: str
+    score: float
+    suspects: list
+    report: str
+    result: dict = field(repr=False)
+
+
+def diagnose(model, x, dt=None, u=None, report=None, label="model", progress=None, **options):
+    """Is the model adequate for the records? diagnose-vehs's keys (alpha, twins, suspects, ...).
+    ``report``: a folder for the HTML report and its history.json (as diagnose-vehs writes them),
+    or None. Returns verdict, score, ranked suspects, report path and the whole result."""
+    records = as_records(x, dt, u)
+    text, html = _vehs.diagnose(_core(model), records._core, options_json("vehs.diagnose", options),
+                                "" if report is None else str(report), label, progress)
+    result = json.loads(text)
+    suspects = result.get("suspects", {})
+    ranked = suspects.get("ranked", []) if isinstance(suspects, dict) else suspects
+    return Diagnosis(verdict=result["verdict"], score=result["score"], suspects=ranked, report=html or None,
+                     result=result)

@@ -1,0 +1,132 @@
+"""Sweeps and Monte Carlo ensembles on dask.distributed, merged exactly as one machine merges them.
+
+* :func:`sweep` splits fpk-stationary's parameter sweep into blocks of points. Every block builds
+  the same grid (the envelope of all points' automatic domains) and the same symbolic
+  factorisation (of the first solvable point) as the single-machine sweep and solves only its own
+  points (``SweepOptions::block_first/last``), so the merged points are the CLI's, bit for bit.
+* :func:`ensemble` splits a Monte Carlo ensemble into blocks of records. A record's random
+  stream is keyed by its id (``first_record``), so a block's records are the same records; the
+  merge combines the record means in record order with the library's own ``combine_independent``
+  and adds the histogram counts, as ``simulate_statistics`` does on one machine.
+
+``client`` is a ``distributed.Client``: ``Client(LocalCluster(n_workers=2, threads_per_worker=1))``
+here, ``Client("tcp://scheduler:8786")`` on a cluster (the workers need vehs installed).
+"""
+import json
+import math
+import os
+
+from . import _vehs
+from .model import Model
+from .options import options_json
+
+
+def _worker_threads(threads):
+    if threads:
+        _vehs.set_threads(int(threads))
+
+
+def _sweep_block(model_dict, text, first, last, threads):
+    _worker_threads(threads)
+    model = Model.from_dict(model_dict)
+    return json.loads(_vehs.sweep(model._core, text, first, last, None))
+
+
+def _axis_size(spec):
+    if isinstance(spec, dict):
+        return len(spec["values"])
+    return int(spec[2])
+
+
+def _workers(client):
+    return max(1, len(client.scheduler_info().get("workers", {})))
+
+
+def sweep(client, model, sweep, grid=None, blocks=None, threads=1, **options):
+    """vehs.sweep on a Dask cluster: ``blocks`` tasks (default: one per worker) of contiguous
+    points (last parameter fastest, as fpk-stationary orders them). ``threads``: library threads
+    per task (1 with one thread per worker). Returns the same dict as :func:`vehs.sweep`, with
+    ``seconds`` the wall time and ``tasks`` the number of tasks."""
+    import time
+
+    options["sweep"] = sweep
+    if grid is not None:
+        options["grid"] = grid
+    text = options_json("vehs.dask.sweep", options)
+    count = math.prod(_axis_size(s) for s in sweep.values())
+    blocks = max(1, min(count, blocks or _workers(client)))
+    bounds = [(count * b // blocks, count * (b + 1) // blocks) for b in range(blocks)]
+    model_dict = model.to_dict()
+    start = time.perf_counter()
+    futures = [client.submit(_sweep_block, model_dict, text, lo, hi, threads, pure=False) for lo, hi in bounds]
+    parts = client.gather(futures)
+    merged = dict(parts[0])
+    points = []
+    for (lo, hi), part in zip(bounds, parts):
+        points.extend(part["points"][lo:hi])
+    merged["points"] = points
+    merged["failed_points"] = sum(1 for p in points if "error" in p)
+    merged["seconds"] = time.perf_counter() - start
+    merged["threads"] = threads
+    merged["tasks"] = blocks
+    merged["task_seconds"] = [p["seconds"] for p in parts]
+    return merged
+
+
+def _ensemble_block(model_dict, options, first, count, offset, threads):
+    _worker_threads(threads)
+    opts = dict(options, trajectories=count, first_record=first)
+    for key in ("x0", "y0"):  # values per record: this block's slice
+        if isinstance(opts.get(key), (list, tuple)):
+            opts[key] = list(opts[key])[offset:offset + count]
+    model = Model.from_dict(model_dict)
+    return json.loads(_vehs.monte_carlo(model._core, options_json("vehs.dask.ensemble", opts), None))
+
+
+def merge_statistics(parts):
+    """Merges the statistics of consecutive blocks of records (each from vehs.monte_carlo) into
+    those of the whole ensemble, as simulate_statistics computes them on one machine."""
+    first = parts[0]
+    records = sum(p["records"] for p in parts)
+    if records < first["min_records_for_spread"]:
+        raise _vehs.Error(f"vehs.dask.ensemble: {records} records are fewer than the "
+                          f"{first['min_records_for_spread']} whose spread gives the standard errors; "
+                          "run vehs.monte_carlo on one machine")
+    n = float(first["samples_per_record"])
+    out = {}
+    stderr = {}
+    means = {}
+    for name in first["record_means"]:
+        values = [v for p in parts for v in p["record_means"][name]]
+        out[name], stderr[name] = _vehs.combine_independent(values, [n] * len(values))
+        means[name] = values
+    out["stderr"] = stderr
+    out["records"] = records
+    out["samples_per_record"] = first["samples_per_record"]
+    out["discard"] = first["discard"]
+    out["error_method"] = "independent records"
+    if "histograms" in first:
+        out["histograms"] = first["histograms"]
+        counts = {k: [sum(c) for c in zip(*(p["counts"][k] for p in parts))] for k in ("px", "py", "pxy")}
+        outside = [sum(c) for c in zip(*(p["counts"]["outside"] for p in parts))]
+        total = [sum(c) for c in zip(*(p["counts"]["total"] for p in parts))]
+        h = dict(first["histograms"])
+        for i, key in enumerate(("outside_fraction_x", "outside_fraction_y", "outside_fraction_xy")):
+            h[key] = outside[i] / total[i] if total[i] > 0 else 0.0
+        out["histograms"] = h
+        out["counts"] = dict(counts, outside=outside, total=total)
+    out["record_means"] = means
+    out["min_records_for_spread"] = first["min_records_for_spread"]
+    return out
+
+
+def ensemble(client, model, trajectories, block=None, threads=1, statistics=None, **options):
+    """vehs.monte_carlo on a Dask cluster: blocks of ``block`` records (default: one block per
+    worker), record ids first_record + 0 ... trajectories - 1 as on one machine."""
+    first_record = int(options.pop("first_record", 0))
+    options["statistics"] = {} if statistics is None else statistics
+    block = block or math.ceil(trajectories / _workers(client))
+    model_dict = model.to_dict()
+    futures = [client.submit(_ensemble_block, model_dict, options, first_record + lo, min(block, trajectories - lo),
+                             lo, threads, pure=False) for lo in range(0, trajectories, block)]
+    return merge_statistics(client.gather(futures))

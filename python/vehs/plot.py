@@ -1,0 +1,194 @@
+"""matplotlib figures for notebooks: potential, drift and diffusion with bands and binned
+estimates from the records, the stationary density with its marginals, the suspects table, and
+power (E[Y^2]) against a swept parameter. Each function draws into ``ax`` (or a new figure) and
+returns the axes."""
+import numpy as np
+
+from .records import Records
+
+
+def _axes(ax, **subplots):
+    if ax is not None:
+        return ax
+    import matplotlib.pyplot as plt
+
+    return plt.subplots(**subplots)[1]
+
+
+def _coefficient_band(model, x, kind):
+    """Value and 2-standard-error band of the x-part (y = 0) of b2 or a22 on x. The band adds the
+    terms' standard errors in quadrature (the model file holds no covariances)."""
+    d = model.to_dict()
+    terms = d.get(kind, {})
+    se = d.get("stderr", {}).get(kind, {})
+    value = np.array([model.b2(v, 0.0) if kind == "drift" else model.a22(v, 0.0) for v in x])
+    var = np.zeros_like(x)
+    for term, s in se.items():
+        if term not in terms or not np.isfinite(s):
+            continue
+        unit = _unit_model(kind, term)
+        if unit is None:
+            continue
+        phi = np.array([unit(v) for v in x])
+        var += (s * phi) ** 2
+    return value, 2.0 * np.sqrt(var)
+
+
+def _unit_model(kind, term):
+    """phi(x) at y = 0 of a term ("1", "x^3", ...); None for terms that vanish or need y."""
+    if term == "1":
+        return lambda v: 1.0
+    if term == "x":
+        return lambda v: v
+    if term.startswith("x^") and term[2:].isdigit():
+        p = int(term[2:])
+        return lambda v: v ** p
+    return None
+
+
+def _model_curve(model, x, kind, ax, label):
+    """Draws b2(x, 0) or a22(x, 0) with its 2-SE band; returns the axes and the x values."""
+    ax = _axes(ax)
+    x = np.linspace(-1.6, 1.6, 401) if x is None else np.asarray(x)
+    value, band = _coefficient_band(model, x, kind)
+    ax.plot(x, value, label=label)
+    ax.fill_between(x, value - band, value + band, alpha=0.3, label="2 SE")
+    return ax, x
+
+
+def _kinematics(records, model):
+    """x, velocity and acceleration of every record, by the differences the model was fitted
+    with: forward ((x[i+1] - x[i]) / dt, ...) for the forward and paper estimators (data from a
+    scheme at the recorded step), else central (ULI: a sensor sampling a continuous process).
+    Also the factor c with a22 = c dt E[(a - b2)^2 | x] (1 forward, 3/2 central)."""
+    used = (model.to_dict().get("estimator") or {}).get("used", "uli")
+    forward = used in ("forward", "paper")
+    xs, vs, accs = [], [], []
+    x = records.x if records.x.ndim == 2 else [records.x]
+    dt = records.dt
+    for r in x:
+        if forward:
+            v = np.diff(r) / dt
+            xs.append(r[:-2])
+            vs.append(v[:-1])
+            accs.append(np.diff(v) / dt)
+        else:
+            xs.append(r[1:-1])
+            vs.append((r[2:] - r[:-2]) / (2 * dt))
+            accs.append((r[2:] - 2 * r[1:-1] + r[:-2]) / dt ** 2)
+    return np.concatenate(xs), np.concatenate(vs), np.concatenate(accs), 1.0 if forward else 1.5
+
+
+def _binned(x, values, edges):
+    idx = np.digitize(x, edges) - 1
+    centres, means, errors = [], [], []
+    for b in range(len(edges) - 1):
+        v = values[idx == b]
+        if v.size >= 30:
+            centres.append(0.5 * (edges[b] + edges[b + 1]))
+            means.append(v.mean())
+            errors.append(v.std(ddof=1) / np.sqrt(v.size))
+    return np.array(centres), np.array(means), np.array(errors)
+
+
+def potential(model, x=None, ax=None, **plot):
+    """U(x) = -integral of b2(x, 0) from 0 (the restoring force's potential)."""
+    ax = _axes(ax)
+    x = np.linspace(-1.6, 1.6, 401) if x is None else np.asarray(x)
+    f = np.array([model.b2(v, 0.0) for v in x])
+    u = -np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(x))])
+    u -= u[np.argmin(np.abs(x))]
+    ax.plot(x, u, **plot)
+    ax.set_xlabel("x")
+    ax.set_ylabel("U(x)")
+    return ax
+
+
+def drift(model, records=None, x=None, bins=40, ax=None, label="model"):
+    """b2(x, 0) with a 2-SE band, and binned E[acceleration | x] from the records (which equals
+    the restoring force b2(x, 0) in stationarity for drifts linear in y)."""
+    ax, x = _model_curve(model, x, "drift", ax, label)
+    if isinstance(records, Records):
+        xi, _, acc, _ = _kinematics(records, model)
+        c, m, e = _binned(xi, acc, np.linspace(x.min(), x.max(), bins + 1))
+        ax.errorbar(c, m, yerr=2 * e, fmt=".", label="binned data")
+    ax.set_xlabel("x")
+    ax.set_ylabel("b2(x, 0)")
+    ax.legend()
+    return ax
+
+
+def diffusion(model, records=None, x=None, bins=40, ax=None, label="model"):
+    """a22(x, 0) with a 2-SE band, and the binned estimate c dt E[(a - b2(x, v))^2 | x] from the
+    records (c = 1 with forward differences, 3/2 with ULI's central ones: see _kinematics)."""
+    ax, x = _model_curve(model, x, "diffusion", ax, label)
+    if isinstance(records, Records):
+        xi, vi, acc, factor = _kinematics(records, model)
+        stride = max(1, xi.size // 200000)  # b2 is evaluated per sample in Python: subsample
+        xi, vi, acc = xi[::stride], vi[::stride], acc[::stride]
+        resid = acc - np.array([model.b2(a, b) for a, b in zip(xi, vi)])
+        c, m, e = _binned(xi, factor * records.dt * resid ** 2, np.linspace(x.min(), x.max(), bins + 1))
+        ax.errorbar(c, m, yerr=2 * e, fmt=".", label="binned data")
+    ax.set_xlabel("x")
+    ax.set_ylabel("a22(x, 0)")
+    ax.legend()
+    return ax
+
+
+def density(stationary, fig=None):
+    """p(x, y) as a map with the marginals p(x) and p(y) beside it; returns the three axes."""
+    import matplotlib.pyplot as plt
+
+    fig = fig or plt.figure(figsize=(7, 6))
+    grid = fig.add_gridspec(2, 2, width_ratios=(4, 1), height_ratios=(1, 4), wspace=0.05, hspace=0.05)
+    main = fig.add_subplot(grid[1, 0])
+    top = fig.add_subplot(grid[0, 0], sharex=main)
+    side = fig.add_subplot(grid[1, 1], sharey=main)
+    s = stationary
+    main.pcolormesh(s.x, s.y, s.density.T, shading="nearest")
+    main.set_xlabel("x")
+    main.set_ylabel("y")
+    top.plot(s.x, s.marginal_x)
+    top.set_ylabel("p(x)")
+    side.plot(s.marginal_y, s.y)
+    side.set_xlabel("p(y)")
+    top.tick_params(labelbottom=False)
+    side.tick_params(labelleft=False)
+    return main, top, side
+
+
+def suspects(diagnosis, ax=None):
+    """The suspects (missing effects) ranked by held-out evidence, as a table."""
+    ax = _axes(ax, figsize=(7, 0.4 * (len(diagnosis.suspects) + 2)))
+    rows = []
+    for s in diagnosis.suspects:
+        params = ", ".join(f"{k} = {v:.3g}" for k, v in list((s.get("params") or {}).items())[:3])
+        rows.append([s["effect"], f"{float(s['evidence']):.1f}", f"{float(s['z']):.1f}",
+                     "yes" if s.get("significant") else "", params])
+    ax.axis("off")
+    ax.set_title(f"verdict: {diagnosis.verdict}, score {diagnosis.score:.3g}")
+    if rows:
+        table = ax.table(cellText=rows, colLabels=["suspect", "evidence (nats)", "z", "claimed", "fitted"],
+                         loc="center")
+        table.auto_set_font_size(False)
+        table.set_fontsize(8)
+        table.auto_set_column_width(col=list(range(5)))
+    return ax
+
+
+def power(sweep, moment="E[Y^2]", ax=None):
+    """``moment`` (mean power is proportional to E[Y^2]) against the first swept parameter, one
+    line per value of the second."""
+    ax = _axes(ax)
+    names = [p["name"] for p in sweep["parameters"]]
+    pts = [p for p in sweep["points"] if "error" not in p]
+    if len(names) == 1:
+        ax.plot([p[names[0]] for p in pts], [p[moment] for p in pts], "o-")
+    else:
+        for v in sweep["parameters"][1]["values"]:
+            sel = [p for p in pts if p[names[1]] == v]
+            ax.plot([p[names[0]] for p in sel], [p[moment] for p in sel], "o-", label=f"{names[1]} = {v:g}")
+        ax.legend()
+    ax.set_xlabel(names[0])
+    ax.set_ylabel(moment)
+    return ax
