@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fuzzes every reader with libFuzzer (clang from Debian) under AddressSanitizer and
-# UndefinedBehaviorSanitizer: the CSV and .npy measurement readers, JSON configs (parse + every
-# tool's key table and getters) and model files. Each target runs VEHS_FUZZ_RUNS executions
+# UndefinedBehaviorSanitizer: the CSV and .npy measurement readers, JSON configs (parse, key
+# checks, every typed getter, --set) and model files. Each target runs VEHS_FUZZ_RUNS executions
 # (default 10^7) from the seed corpus in bench/fuzz/corpus/<target>/, with a 10 s limit per input
 # (a slower input is reported as a hang) and 2 GB of memory; it stops at the first crash,
 # sanitizer report, hang or memory blow-up and leaves the reproducer in build-fuzz/findings/.

@@ -1,11 +1,11 @@
 #include "vehs/io/json_file.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 #include "vehs/core/error.hpp"
 #include "vehs/io/output_transaction.hpp"
@@ -72,8 +72,12 @@ std::string json_excerpt(const nlohmann::json& v, std::size_t max_chars) {
   return out;
 }
 
-nlohmann::json parse_json_text(const std::string& text, const std::string& where) {
+void check_json_text(const std::string& text, const std::string& where) {
   if (const std::string problem = structural_problem(text); !problem.empty()) throw Error(where + ": " + problem);
+}
+
+nlohmann::json parse_json_text(const std::string& text, const std::string& where) {
+  check_json_text(text, where);
   try {
     return nlohmann::json::parse(text);  // strict: anything but whitespace after the value is an error
   } catch (const nlohmann::json::parse_error& e) {
@@ -84,19 +88,41 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& where
   }
 }
 
-nlohmann::json read_json_file(const std::string& path, const std::string& what) {
+std::string read_text_file(const std::string& path, const std::string& what) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0)
     throw Error(path + ": cannot open " + what + " (" + std::strerror(errno) + ")");
   if (S_ISDIR(st.st_mode)) throw Error(path + ": is a directory, not a " + what);
-  if (!S_ISREG(st.st_mode)) throw Error(path + ": is not a regular file (device, pipe or socket), not a " + what);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open " + what + " (" + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw Error(path + ": cannot read " + what);
+  // O_NONBLOCK: opening a pipe that has no writer returns at once (then reads end-of-file)
+  // instead of waiting for ever; reads block again afterwards (process substitution works)
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw Error(path + ": cannot open " + what + " (" + std::strerror(errno) + ")");
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  std::string text;
+  char buf[65536];
+  for (;;) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const std::string why = std::strerror(errno);
+      ::close(fd);
+      throw Error(path + ": cannot read " + what + " (" + why + ")");
+    }
+    if (n == 0) break;
+    text.append(buf, static_cast<std::size_t>(n));
+    if (text.size() > kMaxJsonBytes) {  // /dev/zero and friends: never a config
+      ::close(fd);
+      throw Error(path + ": larger than " + std::to_string(kMaxJsonBytes >> 20) + " MB, not a " + what);
+    }
+  }
+  ::close(fd);
+  return text;
+}
+
+nlohmann::json read_json_file(const std::string& path, const std::string& what) {
+  std::string text = read_text_file(path, what);
   if (OutputTransaction* t = OutputTransaction::active()) t->protect(path, what);  // never an output of this run
-  return parse_json_text(text.str(), path);
+  return parse_json_text(text, path);
 }
 
 }  // namespace vehs

@@ -19,7 +19,7 @@ KeySpec glitches_key_spec() {
           "\"error\""};
 }
 
-Dataset checked_measurements(const Config& c, Dataset data, bool quiet) {
+Dataset checked_measurements(const Config& c, Dataset data) {
   if (c.has("dt")) {
     const double dt = c.positive("dt");
     for (const auto& r : data.records)
@@ -37,7 +37,7 @@ Dataset checked_measurements(const Config& c, Dataset data, bool quiet) {
                            (glitches.size() > 1 ? "s" : "") + ": " + describe_glitches(data, glitches);
   if (rule == "error")
     throw Error(what + " (config 'glitches': \"drop\" removes them, \"keep\" fits them)");
-  if (!quiet) std::cerr << "dropped " << what << "\n";
+  std::cerr << "warning: dropped " << what << "\n";  // changes the data: said even with --quiet
   Dataset kept = drop_glitches(data, glitches);
   if (kept.records.empty()) throw Error("no record is left after dropping " + what);
   return kept;

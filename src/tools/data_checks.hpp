@@ -13,7 +13,8 @@ namespace vehs::tools {
 /// The `glitches` key of identify-vehs' and diagnose-vehs' key tables.
 KeySpec glitches_key_spec();
 
-/// Applies the checks to freshly read `data`; returns the data to fit (without dropped glitches).
-Dataset checked_measurements(const Config& config, Dataset data, bool quiet);
+/// Applies the checks to freshly read `data`; returns the data to fit (without dropped glitches,
+/// which are reported on stderr).
+Dataset checked_measurements(const Config& config, Dataset data);
 
 }  // namespace vehs::tools

@@ -207,7 +207,7 @@ int run_diagnose(Config& c, const AppOptions& app) {
   ro.min_samples = 16;
   const auto files = c.string_list("data");
   if (files.empty()) c.fail("data", "lists no file");
-  Dataset data = checked_measurements(c, read_measurements(files, ro), app.quiet);
+  Dataset data = checked_measurements(c, read_measurements(files, ro));
   const std::string detrend = c.string_or("detrend", "none");
   if (detrend == "mean")
     subtract_record_means(data);

@@ -251,7 +251,7 @@ int run_fpk(Config& cfg, const AppOptions& app) {
       ++failed;
       std::string at;
       for (std::size_t a = 0; a < axes.size(); ++a)
-        at += (a ? ", " : "") + axes[a].name + " = " + detail::format_number(p.parameters[a], 6);
+        at += (a ? ", " : "") + axes[a].name + " = " + vehs::detail::format_number(p.parameters[a], 6);
       std::cerr << "fpk-stationary: warning: sweep point " << at << " failed: " << p.error << "\n";
     }
     if (failed == sw.points.size())

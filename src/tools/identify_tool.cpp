@@ -353,7 +353,7 @@ int run_identify(Config& c, const AppOptions& app) {
   for (const auto& t : o.drift_library) need_u = need_u || t.depends_on_u();
   const ReadOptions ro = identify_read_options(c, need_u);
   const auto files = c.string_list("data");
-  Dataset data = checked_measurements(c, read_measurements(files, ro), app.quiet);
+  Dataset data = checked_measurements(c, read_measurements(files, ro));
   if (static_cast<std::size_t>(o.folds) * 100 > data.total_samples())
     c.fail("folds", "= " + std::to_string(o.folds) + " leaves fewer than 100 samples per fold (the data have " +
                         std::to_string(data.total_samples()) + ")");

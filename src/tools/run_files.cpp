@@ -78,6 +78,9 @@ struct Walk {
       const std::string path = v.get<std::string>();
       if (path.empty() || ::stat(path.c_str(), &st) != 0)
         throw Error(config.file() + ": '" + where + "': " + (path.empty() ? "an empty path" : path + ": no such file"));
+      if (S_ISDIR(st.st_mode)) throw Error(config.file() + ": '" + where + "': " + path + " is a directory, not a file");
+      if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode))  // /dev/zero would be read for ever (pipes are fine)
+        throw Error(config.file() + ": '" + where + "': " + path + " is a device, not a file");
     }
     if (v.is_string()) return transaction.protect(v.get<std::string>(), "input '" + where + "'");
     if (v.is_array()) {

@@ -34,7 +34,7 @@ std::string slurp(const fs::path& p) {
 
 std::set<std::string> listing(const fs::path& d) {
   std::set<std::string> s;
-  for (const auto& e : fs::recursive_directory_iterator(d)) s.insert(fs::relative(e.path(), d).string());
+  for (const auto& e : fs::recursive_directory_iterator(d)) s.insert(e.path().lexically_relative(d).string());
   return s;
 }
 
