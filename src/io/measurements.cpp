@@ -228,9 +228,9 @@ Dataset read_csv(const std::string& path, const ReadOptions& o) {
     long long id = 0;
     if (itraj >= 0) {
       const double v = parse_double(fields[static_cast<std::size_t>(itraj)], o.traj_column.c_str());
-      if (v != std::floor(v))
+      if (v != std::floor(v) || !(std::abs(v) < 9e15))  // (a larger id would overflow the conversion)
         throw Error(path + ": line " + std::to_string(line_no) + ": record id '" +
-                    std::string(fields[static_cast<std::size_t>(itraj)]) + "' is not an integer");
+                    std::string(fields[static_cast<std::size_t>(itraj)]) + "' is not an integer below 9e15");
       id = static_cast<long long>(v);
     }
     const double t = it >= 0 ? parse_double(fields[static_cast<std::size_t>(it)], o.t_column.c_str()) : 0.0;
@@ -427,7 +427,11 @@ Dataset read_npy(const std::string& path, const ReadOptions& o) {
       if (fy) d.y.push_back(field_value(r, *fy));
       rb.set_pending(true);
       // .npy rows are reported 0-based as "row"; RecordBuilder says "line" = row + 1
-      rb.sample(row + 1, ftraj ? static_cast<long long>(field_value(r, *ftraj)) : 0, t, x);
+      const double id = ftraj ? field_value(r, *ftraj) : 0.0;
+      if (id != std::floor(id) || !(std::abs(id) < 9e15))  // (a larger id would overflow the conversion)
+        throw Error(path + ": row " + std::to_string(row) + ": record id " + std::to_string(id) +
+                    " is not an integer below 9e15");
+      rb.sample(row + 1, static_cast<long long>(id), t, x);
       rb.set_pending(false);
     }
   }

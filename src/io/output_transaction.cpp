@@ -223,6 +223,19 @@ void OutputTransaction::adopt(const std::string& destination) {
   staged_.push_back({staged, destination, canonical_of(destination), register_temporary(staged, false)});
 }
 
+std::string OutputTransaction::current_path(const std::string& destination) const {
+  std::lock_guard<std::mutex> lock(g_mutex);
+  const std::string canonical = canonical_of(destination);
+  for (auto it = staged_.rbegin(); it != staged_.rend(); ++it)
+    if (it->canonical == canonical && it->slot >= 0) return it->staged;
+  return destination;
+}
+
+std::string current_output_path(const std::string& destination) {
+  const OutputTransaction* t = OutputTransaction::active();
+  return t ? t->current_path(destination) : destination;
+}
+
 void OutputTransaction::commit() {
   std::lock_guard<std::mutex> lock(g_mutex);
   // inputs read after an output was staged are protected too: check everything before moving

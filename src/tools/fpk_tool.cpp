@@ -181,6 +181,10 @@ int run_fpk(Config& cfg, const AppOptions& app) {
   opt.solver = enum_from_string(kSolverNames, cfg.string_or("solver", "direct"), cfg.where("solver"));
   opt.ordering = enum_from_string(kOrderingNames, cfg.string_or("ordering", "auto"), cfg.where("ordering"));
   opt.correction_steps = static_cast<int>(cfg.integer_at_least("correction_steps", 0, opt.correction_steps));
+  // settings of a solver that is not used would be ignored silently
+  if (cfg.has("sor") && opt.solver != Solver::Sor) cfg.fail("sor", "is given but 'solver' is not \"sor\"");
+  if (cfg.has("iterative") && opt.solver != Solver::Bicgstab)
+    cfg.fail("iterative", "is given but 'solver' is not \"bicgstab\"");
   if (cfg.has("sor")) {
     const Config s = cfg.object("sor", {"alpha", "tolerance", "max_iterations", "normalize_every"});
     opt.sor.alpha = s.positive_or("alpha", opt.sor.alpha);

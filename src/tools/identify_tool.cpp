@@ -277,6 +277,10 @@ identify::Options identify_options(const Config& c) {
   o.folds = static_cast<int>(c.integer_at_least("folds", 1, 10));
   if (o.folds > 1000) c.fail("folds", "must be at most 1000 (got " + std::to_string(o.folds) + ")");
   o.stlsq_threshold = c.non_negative_or("stlsq_threshold", 0.05);
+  // settings of a sparsity rule that is not used would be ignored silently
+  if (c.has("stlsq_threshold") && o.sparsity != Sparsity::Stlsq)
+    c.fail("stlsq_threshold", "is given but 'sparsity' is not \"stlsq\"");
+  if (c.has("ssr_rule") && o.sparsity != Sparsity::Ssr) c.fail("ssr_rule", "is given but 'sparsity' is not \"ssr\"");
   o.se_block = static_cast<std::size_t>(c.integer_at_least("se_block", 0, 0));
   o.pilot_samples = static_cast<std::size_t>(c.integer_at_least("pilot_samples", 1000, 250000));
   o.noise_share_target = c.number_or("noise_share_target", 0.95);

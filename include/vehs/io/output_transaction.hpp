@@ -49,6 +49,10 @@ class OutputTransaction {
   std::string staging_directory(const std::string& dir);
   void adopt(const std::string& destination);
 
+  /// Where the content written for `destination` is now: its staged file when this transaction
+  /// staged it, else `destination` itself (for code that reads back an output of the same run).
+  std::string current_path(const std::string& destination) const;
+
   /// Moves every staged file into place; the run's outputs then exist together.
   void commit();
   std::size_t staged_count() const { return staged_.size(); }
@@ -76,6 +80,9 @@ class OutputTransaction {
   std::vector<std::string> staging_for_;                     ///< the destination folder of each
   bool committed_ = false;
 };
+
+/// OutputTransaction::active()->current_path(destination), or `destination` outside a transaction.
+std::string current_output_path(const std::string& destination);
 
 /// Temporary files and folders removed by the signal handler (async-signal-safe storage).
 /// register_temporary returns a slot for unregister_temporary.

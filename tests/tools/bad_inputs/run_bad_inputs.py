@@ -229,6 +229,14 @@ def cases():
     add(Case("keep_terms outside the library", "identify-vehs", with_("identify-vehs", keep_terms=["x^20"]),
              mentions=["keep_terms"]))
     add(Case("dt contradicting the time column", "identify-vehs", with_("identify-vehs", dt=0.5), mentions=["dt"]))
+    add(Case("stlsq_threshold without stlsq", "identify-vehs", with_("identify-vehs", stlsq_threshold=0.1),
+             mentions=["stlsq_threshold"]))
+    add(Case("ssr_rule with sparsity none", "identify-vehs", with_("identify-vehs", sparsity="none", ssr_rule="abs_coef"),
+             mentions=["ssr_rule"]))
+    add(Case("fpk: sor settings with the direct solver", "fpk-stationary", with_("fpk-stationary", sor={"alpha": 0.5}),
+             mentions=["sor"]))
+    add(Case("fpk: iterative settings with the direct solver", "fpk-stationary",
+             with_("fpk-stationary", iterative={"tolerance": 1e-8}), mentions=["iterative"]))
     add(Case("folds beyond the data", "identify-vehs", with_("identify-vehs", folds=100000), mentions=["folds"]))
     add(Case("statistics.batches beyond the samples", "simulate-vehs",
              with_("simulate-vehs", statistics={"output": "st.json", "batches": 100000}), mentions=["batches"]))
@@ -241,6 +249,8 @@ def cases():
     add(Case("fpk sor at 300^2 with 1e9 sweeps", "fpk-stationary",
              with_("fpk-stationary", grid={"x": 300, "y": 300}, solver="sor", sor={"max_iterations": 1000000000}),
              mentions=["sor", "max_iterations"]))
+    add(Case("fpk sor at 300^2 with the defaults", "fpk-stationary",
+             with_("fpk-stationary", grid={"x": 300, "y": 300}, solver="sor"), mentions=["max_iterations"]))
     add(Case("fpk sweep all points failing", "fpk-stationary",
              with_("fpk-stationary", sweep={"2D": [-0.03, -0.01, 3]}), mentions=["sweep", "2D"]))
     add(Case("compare: fpk of another model", "vehs-compare", with_("vehs-compare", fpk="fpk_other.json"),
@@ -273,6 +283,8 @@ def cases():
     # ---- what must work: the valid parts of the cases ------------------------------
     add(Case("fpk sweep {2D: [-0.01, 0.03, 3]}: 2D = 0.01 solved, -0.01 failed with its reason", "fpk-stationary",
              with_("fpk-stationary", sweep={"2D": [-0.01, 0.03, 3]}), expect="ok", check=check_sweep))
+    add(Case("diagnose: the staged report embeds its figures", "diagnose-vehs", BASE["diagnose-vehs"], expect="ok",
+             check=check_report))
     add(Case("compare: Monte Carlo without standard errors never prints nan", "vehs-compare",
              with_("vehs-compare", monte_carlo="mc.json"),
              files={"mc.json": json.dumps({"E[X^2]": 0.7, "E[Y^2]": 0.2, "E[XY]": 0.0, "model": MODEL})},
@@ -292,6 +304,18 @@ def cases():
     add(Case("SIGINT during a diagnosis with a report", "diagnose-vehs",
              with_("diagnose-vehs", replicates=20, suspects=True), expect=signal.SIGINT, signal_after=2.0))
     return out
+
+
+def check_report(d, out, err):
+    if shutil.which("gnuplot") is None:
+        return []
+    with open(os.path.join(d, "diag_report", "index.html")) as f:
+        html = f.read()
+    problems = [] if "data:image/svg+xml" in html else ["no figure embedded in index.html"]
+    if "figure not rendered" in html:
+        problems.append("index.html says a figure was not rendered")
+    leftovers = [n for n in os.listdir(d) + os.listdir(os.path.join(d, "diag_report")) if n.startswith(".vehs")]
+    return problems + (["left: " + ", ".join(leftovers)] if leftovers else [])
 
 
 def check_sweep(d, out, err):

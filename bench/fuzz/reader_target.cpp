@@ -1,5 +1,6 @@
-// libFuzzer target: the measurement reader (vehs/io/measurements.hpp) on a .npy file holding the
-// input (the readers take paths: the input is written to a file in /dev/shm, or $TMPDIR, once per
+// libFuzzer target: the measurement reader (vehs/io/measurements.hpp) on a file holding the input,
+// named with the extension VEHS_FUZZ_EXTENSION (".csv": fuzz_csv_reader, ".npy": fuzz_npy_reader;
+// the readers take paths: the input is written to a file in /dev/shm, or $TMPDIR, once per
 // execution). Any vehs::Error is a correct answer; a crash, sanitizer report, hang or another
 // exception is a finding.
 #include <unistd.h>
@@ -17,7 +18,7 @@ namespace {
 
 std::string scratch_path() {
   const char* dir = ::access("/dev/shm", W_OK) == 0 ? "/dev/shm" : (std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp");
-  return std::string(dir) + "/vehs_fuzz_" + std::to_string(::getpid()) + ".npy";
+  return std::string(dir) + "/vehs_fuzz_" + std::to_string(::getpid()) + VEHS_FUZZ_EXTENSION;
 }
 
 }  // namespace
