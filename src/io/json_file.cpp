@@ -80,7 +80,7 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& where
   check_json_text(text, where);
   try {
     return nlohmann::json::parse(text);  // strict: anything but whitespace after the value is an error
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for a number like 1e400
     const std::string message = e.what();  // "[json.exception.parse_error.101] parse error at line 3, ..."
     const std::size_t bracket = message.find("] ");
     throw Error(where + ": not valid JSON (" + (bracket == std::string::npos ? message : message.substr(bracket + 2)) +

@@ -42,6 +42,8 @@ TEST_CASE("content after the JSON document is an error", "[io][json][asan]") {
   CHECK(message_of("{\"a\": 1}{\"a\": 1}").find("not valid JSON") != std::string::npos);
   CHECK(message_of("").find("not valid JSON") != std::string::npos);
   CHECK(vehs::parse_json_text("{\"a\": 1}  \n\t", "c.json")["a"] == 1);
+  // nlohmann reports a number beyond double as out_of_range, not parse_error (found by fuzz_json_config)
+  CHECK(message_of("{\"a\": 1e400}").find("c.json: not valid JSON (number overflow") == 0);
 }
 
 TEST_CASE("read_json_file names the file, refuses directories, never waits on a pipe without writer",
