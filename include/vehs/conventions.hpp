@@ -21,12 +21,12 @@
 //   as counter, so an ensemble is bit-identical whatever the thread count.
 // * Finite-difference grids are cell-centred: n cells over [min, max], centre of cell i at
 //   min + (i + ½)·h, h = (max − min)/n. Densities integrate to 1 with the midpoint rule.
-// * Term names follow contracts.md §2: "1", "x", "x^3", "y", "x^2*y", "y^3", "sign(y)",
+// * Term names follow docs/model-file.md: "1", "x", "x^3", "y", "x^2*y", "y^3", "sign(y)",
 //   "y*|y|", "u". sign(0) = 0.
 //
 // Tolerances that are part of the contract:
 namespace vehs::conventions {
-/// Relative jitter of the sampling interval allowed within one record (contracts.md §1).
+/// Relative jitter of the sampling interval allowed within one record (docs/measurements.md).
 inline constexpr double sampling_jitter_tolerance = 1e-6;
 /// Probability mass allowed on the boundary cells of a user-given FPK domain.
 inline constexpr double fpk_boundary_mass_tolerance = 1e-6;

@@ -1,5 +1,5 @@
 #pragma once
-// Measurement files (contracts.md §1): CSV with a header row, columns t, x and optionally
+// Measurement files (docs/measurements.md): CSV with a header row, columns t, x and optionally
 // traj (record id), u (recorded drive), y (true velocity, written by the simulator only);
 // and a binary form: NumPy .npy with a structured dtype of the same named fields. All records of
 // all files are read into one Dataset (vehs/core/dataset.hpp).

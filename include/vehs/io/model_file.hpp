@@ -1,5 +1,5 @@
 #pragma once
-// Model files (contracts.md §2): JSON with "drift" and "diffusion" ({term name: coefficient}),
+// Model files (docs/model-file.md): JSON with "drift" and "diffusion" ({term name: coefficient}),
 // "stderr" ({"drift": {...}, "diffusion": {...}}), "effects" ([{"name", "params", "stderr"}]),
 // the fit ("estimator": {"used", "stride", ...}, "sampling": {"dt", "pilot_stride", "rho_lag1",
 // "rho_lag_k", "rho_lag_2k", "rho_lag_3k", "noise_share", "verdict", "sensor_noise_sd", ...};
