@@ -384,6 +384,8 @@ Dataset read_npy(const std::string& path, const ReadOptions& o) {
     if (std::fread(b, 1, 4, file.get()) != 4) throw Error(path + ": truncated .npy header");
     hlen = b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<std::size_t>(b[3]) << 24);
   }
+  if (hlen > (std::size_t{1} << 20))  // numpy writes headers of < 10 kB; a length from a corrupt file
+    throw Error(path + ": .npy header of " + std::to_string(hlen) + " bytes (corrupt file?)");  // is no allocation size
   std::string header(hlen, '\0');
   if (std::fread(header.data(), 1, hlen, file.get()) != hlen)
     throw Error(path + ": truncated .npy header");
