@@ -19,6 +19,8 @@ packages=(
   # the serial variant, because vehs parallelises over sweep points itself)
   libopenblas0-serial
 )
+# bench/fuzz/run.sh: clang with libFuzzer and its OpenMP runtime (only when fuzzing)
+if [ -n "${VEHS_WITH_FUZZ:-}" ]; then packages+=(clang libclang-rt-14-dev libomp-14-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -259,6 +259,11 @@ StationaryResult solve_with_domain(const FpkModel& model, const GridRequest& req
     StationaryResult res = solve_stationary(model, grid, options);
     res.auto_domain = request.auto_x || request.auto_y;
     res.domain_enlargements = attempt;
+    if (!res.summary.converged)  // an unconverged iterate says nothing about the domain
+      throw Error(model.where() + ": the " + res.summary.solver + " solver did not converge in " +
+                  std::to_string(res.summary.iterations) +
+                  " iterations on " + std::to_string(grid.x.n) + "x" + std::to_string(grid.y.n) +
+                  " cells (raise max_iterations or use the direct solver)");
     if (std::abs(res.boundary_mass) <= tol) {
       if (res.summary.negative_mass < -kMaxUndershoot)
         throw Error(model.where() + ": the solution undershoots (negative density of total mass " +
@@ -285,6 +290,11 @@ StationaryResult solve_with_domain(const FpkModel& model, const GridRequest& req
                   "; allowed in total: " + num(tol) +
                   "); enlarge the domain, omit the axis for an automatic range, or raise "
                   "boundary_mass_tolerance");
+    if (attempt >= max_enlargements && res.boundary_mass < 0.0)  // oscillations, not tails
+      throw Error(model.where() + ": negative density on the domain's edges (boundary mass " + num(res.boundary_mass) +
+                  " on " + std::to_string(grid.x.n) + "x" + std::to_string(grid.y.n) +
+                  " cells, after " + std::to_string(max_enlargements) +
+                  " enlargements of the automatic domain): the grid does not resolve the density; use more cells");
     if (attempt >= max_enlargements)
       throw Error(model.where() + ": " + num(res.boundary_mass) +
                   " of the mass stays on the boundary after " + std::to_string(max_enlargements) +

@@ -12,6 +12,9 @@
 #include <Eigen/SparseCore>
 #include <suitesparse/umfpack.h>
 
+#include "vehs/core/detail/progress_counter.hpp"
+#include "vehs/core/detail/format.hpp"
+#include "vehs/core/detail/memory.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/fpk/solve.hpp"
 
@@ -315,8 +318,10 @@ std::vector<double> solve_sor(const SparseMatrix& A, const Grid& g, const SorOpt
   const int* inner = R.innerIndexPtr();
   const double* val = R.valuePtr();
   sum.converged = false;
+  vehs::detail::ProgressCounter progress(o.progress, "fpk sor", o.max_iterations);
   long it = 0;
   for (it = 1; it <= o.max_iterations; ++it) {
+    if (it % 100 == 0) progress.advance(100);
     double change = 0.0, pmax = 0.0;
     // the paper's order: p = (p_11, …, p_m1, p_12, …): x index fastest
     for (int j = 0; j < g.y.n; ++j)
@@ -371,9 +376,21 @@ std::vector<double> solve_bicgstab(const FpkModel& model, SparseMatrix& A, const
 
 }  // namespace
 
+double estimated_solve_bytes(std::size_t cells, const SolveOptions& options) {
+  const double n = static_cast<double>(cells);
+  if (options.solver == Solver::Sor) return 300.0 * n + 2e7;
+  return n * (680.0 + 27.5 * std::log2(std::max(n, 2.0))) + 2e7;
+}
+
 StationaryResult solve_stationary(const FpkModel& model, const Grid& grid, const SolveOptions& options,
                                   DirectSolverCache* reuse) {
   if (auto why = options.invalid_reason(); !why.empty()) throw Error(why);
+  const double need = estimated_solve_bytes(grid.size(), options);
+  const double limit = vehs::detail::default_memory_limit(options.memory_limit);
+  if (need > limit)
+    throw Error("fpk: " + std::to_string(grid.x.n) + "x" + std::to_string(grid.y.n) + " cells need about " +
+                vehs::detail::format_number(need / 1e9, 3) + " GB of memory (limit " +
+                vehs::detail::format_number(limit / 1e9, 3) + " GB): use fewer cells");
   StationaryResult res;
   res.grid = grid;
   SolveSummary& sum = res.summary;

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <optional>
 
+#include "vehs/core/detail/memory.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/core/parallel.hpp"
 #include "vehs/core/detail/progress_counter.hpp"
 #include "vehs/core/parameters.hpp"
 #include "vehs/fpk/sweep.hpp"
@@ -24,7 +26,8 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
                   const SweepOptions& sweep_options) {
   const auto t0 = std::chrono::steady_clock::now();
   if (auto why = sweep_options.invalid_reason(); !why.empty()) throw Error("sweep: " + why);
-  const SolveOptions& options = sweep_options.solve;
+  SolveOptions options = sweep_options.solve;
+  options.sor.progress = nullptr;  // the sweep reports points
   const DomainOptions& domain = sweep_options.domain;
   const double tol = domain.boundary_mass_tolerance;
   require(!axes.empty() && axes.size() <= 2, "sweep: give one or two parameters");
@@ -100,7 +103,12 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
   vehs::detail::ProgressCounter prog(sweep_options.progress, "fpk sweep",
                                      static_cast<long long>(block_last - block_first));
   int threads_used = 1;
-#pragma omp parallel
+  // every thread factorises its own matrix: no more threads than the memory limit holds
+  const double per_solve = estimated_solve_bytes(grid.size(), options);
+  const int memory_threads = static_cast<int>(
+      std::max(1.0, std::floor(vehs::detail::default_memory_limit(options.memory_limit) / per_solve)));
+  const int threads = std::min(vehs::max_threads(), memory_threads);
+#pragma omp parallel num_threads(threads)
   {
 #ifdef _OPENMP
 #pragma omp single
@@ -116,8 +124,15 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
         try {
           if (options.solver == Solver::Direct && !have_analysis) throw Error(cache_error);
           const FpkModel fm(*models[k], "sweep point " + std::to_string(k));
-          const StationaryResult r =
-              solve_stationary(fm, grid, options, have_analysis ? &cache : nullptr);
+          StationaryResult r = solve_stationary(fm, grid, options, have_analysis ? &cache : nullptr);
+          // The shared grid is the envelope of all points' domains: a narrow density on it may be
+          // under-resolved and leak mass to the edges although the point is fine on its own
+          // automatic domain (same cell counts), where it is solved again.
+          const bool automatic = request.auto_x || request.auto_y;
+          if (automatic && (std::abs(r.boundary_mass) > tol || r.summary.negative_mass < -1e-3)) {
+            r = solve_with_domain(fm, request, options, domain);
+            pt.own_domain = true;
+          }
           pt.moments = r.moments;
           pt.identities = r.identities;
           pt.boundary_mass = r.boundary_mass;

@@ -78,15 +78,51 @@ std::vector<Effect> effect_parameters(const Model& model, const std::vector<Effe
   return out;
 }
 
+namespace {
+
+// Variance of x about each record's mean, pooled over the records.
+double pooled_variance(const Dataset& data) {
+  double ss = 0.0;
+  std::size_t n = 0;
+  for (const auto& r : data.records) {
+    const double* x = data.x_of(r);
+    double mean = 0.0;
+    for (std::size_t i = 0; i < r.size; ++i) mean += x[i];
+    mean /= static_cast<double>(r.size);
+    for (std::size_t i = 0; i < r.size; ++i) ss += (x[i] - mean) * (x[i] - mean);
+    n += r.size;
+  }
+  return n > 1 ? ss / static_cast<double>(n - 1) : 0.0;
+}
+
+// White sensor noise adds its variance to x's: an estimate above var(x) is not a noise level but
+// a sign of data the model of the sampling does not describe (glitches, a wrong column).
+void check_sensor_noise(const Result& r, const Dataset& data) {
+  if (!r.model.fit) return;
+  const double sd = r.model.fit->sampling.sensor_noise_sd;
+  const double var = pooled_variance(data);
+  if (sd > 0.0 && sd * sd > var)
+    throw Error("identify: the sensor-noise estimate (sd " + std::to_string(sd) +
+                ") exceeds the spread of x itself (sd " + std::to_string(std::sqrt(var)) +
+                "): the data are not samples of a continuous signal plus white noise (glitches? a wrong column?)");
+}
+
+}  // namespace
+
 Result identify(const Dataset& data, const Options& options) {
   if (auto why = options.invalid_reason(); !why.empty()) throw Error("identify: " + why);
   if (options.known_force)
     require(options.known_force->size() == data.x.size(), "identify: known_force must have one value per sample");
-  for (const auto& e : options.effects)
-    if (e.id == EffectId::ColoredNoise) return detail::identify_colored(data, options);
-  for (const auto& e : options.effects)
-    if (is_dynamic(e.id)) return detail::identify_profile(data, options);
-  return detail::identify_terms(data, options);
+  auto fit = [&] {
+    for (const auto& e : options.effects)
+      if (e.id == EffectId::ColoredNoise) return detail::identify_colored(data, options);
+    for (const auto& e : options.effects)
+      if (is_dynamic(e.id)) return detail::identify_profile(data, options);
+    return detail::identify_terms(data, options);
+  };
+  Result r = fit();
+  check_sensor_noise(r, data);
+  return r;
 }
 
 }  // namespace vehs::identify

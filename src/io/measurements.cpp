@@ -228,9 +228,9 @@ Dataset read_csv(const std::string& path, const ReadOptions& o) {
     long long id = 0;
     if (itraj >= 0) {
       const double v = parse_double(fields[static_cast<std::size_t>(itraj)], o.traj_column.c_str());
-      if (v != std::floor(v))
+      if (v != std::floor(v) || !(std::abs(v) < 9e15))  // (a larger id would overflow the conversion)
         throw Error(path + ": line " + std::to_string(line_no) + ": record id '" +
-                    std::string(fields[static_cast<std::size_t>(itraj)]) + "' is not an integer");
+                    std::string(fields[static_cast<std::size_t>(itraj)]) + "' is not an integer below 9e15");
       id = static_cast<long long>(v);
     }
     const double t = it >= 0 ? parse_double(fields[static_cast<std::size_t>(it)], o.t_column.c_str()) : 0.0;
@@ -384,6 +384,8 @@ Dataset read_npy(const std::string& path, const ReadOptions& o) {
     if (std::fread(b, 1, 4, file.get()) != 4) throw Error(path + ": truncated .npy header");
     hlen = b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<std::size_t>(b[3]) << 24);
   }
+  if (hlen > (std::size_t{1} << 20))  // numpy writes headers of < 10 kB; a length from a corrupt file
+    throw Error(path + ": .npy header of " + std::to_string(hlen) + " bytes (corrupt file?)");  // is no allocation size
   std::string header(hlen, '\0');
   if (std::fread(header.data(), 1, hlen, file.get()) != hlen)
     throw Error(path + ": truncated .npy header");
@@ -427,7 +429,11 @@ Dataset read_npy(const std::string& path, const ReadOptions& o) {
       if (fy) d.y.push_back(field_value(r, *fy));
       rb.set_pending(true);
       // .npy rows are reported 0-based as "row"; RecordBuilder says "line" = row + 1
-      rb.sample(row + 1, ftraj ? static_cast<long long>(field_value(r, *ftraj)) : 0, t, x);
+      const double id = ftraj ? field_value(r, *ftraj) : 0.0;
+      if (id != std::floor(id) || !(std::abs(id) < 9e15))  // (a larger id would overflow the conversion)
+        throw Error(path + ": row " + std::to_string(row) + ": record id " + std::to_string(id) +
+                    " is not an integer below 9e15");
+      rb.sample(row + 1, static_cast<long long>(id), t, x);
       rb.set_pending(false);
     }
   }

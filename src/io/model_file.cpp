@@ -13,7 +13,7 @@ namespace {
 using OJ = nlohmann::ordered_json;
 
 double finite_number(const nlohmann::json& v, const std::string& where) {
-  if (!v.is_number()) throw Error(where + " must be a number (got " + v.dump() + ")");
+  if (!v.is_number()) throw Error(where + " must be a number (got " + json_excerpt(v) + ")");
   const double d = v.get<double>();
   if (!std::isfinite(d)) throw Error(where + " must be finite");
   return d;
@@ -55,7 +55,7 @@ int positive_integer(const nlohmann::json& o, const char* key, const std::string
   if (!o.contains(key)) return 0;
   const auto& v = o[key];
   if (!v.is_number_integer() || v.get<long long>() < 1 || v.get<long long>() > 1000000)
-    throw Error(where + "." + key + " must be an integer >= 1 (got " + v.dump() + ")");
+    throw Error(where + "." + key + " must be an integer >= 1 (got " + json_excerpt(v) + ")");
   return v.get<int>();
 }
 

@@ -11,6 +11,7 @@
 #include "engine.hpp"
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/parallel.hpp"
+#include "vehs/core/detail/memory.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/sim/simd.hpp"
 
@@ -27,11 +28,6 @@ bool all_finite(const std::vector<double>& v) {
   for (double d : v)
     if (!std::isfinite(d)) return false;
   return true;
-}
-
-double physical_memory_bytes() {
-  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-  return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 8e9;
 }
 
 }  // namespace
@@ -220,7 +216,7 @@ void run(detail::RunContext& ctx, Scheme scheme) {
 void allocate(Dataset& d, const SimulationOptions& o) {
   const double values = static_cast<double>(o.records) * static_cast<double>(o.samples) *
                         (o.record_y ? 2.0 : 1.0);
-  const double limit = o.memory_limit > 0.0 ? o.memory_limit : 0.75 * physical_memory_bytes();
+  const double limit = vehs::detail::default_memory_limit(o.memory_limit);
   if (values * 8.0 > limit)
     throw Error("simulation: the records would need " + num(values * 8.0 / 1e9) +
                 " GB of memory (limit " + num(limit / 1e9) +

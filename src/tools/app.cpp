@@ -6,11 +6,17 @@
 
 #include <CLI/CLI.hpp>
 
+#include "tools/run_files.hpp"
 #include "tools/terminal_progress.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/core/parallel.hpp"
+#include "vehs/io/output_transaction.hpp"
 
 namespace vehs::tools {
+
+namespace {
+constexpr long long kMaxThreads = 1024;
+}  // namespace
 
 int run_app(int argc, char** argv, const ConfigSchema& schema,
             const std::function<int(Config&, const AppOptions&)>& body) {
@@ -21,7 +27,20 @@ int run_app(int argc, char** argv, const ConfigSchema& schema,
   app.add_option("config", config_path, "JSON config file (keys below)")->required();
   app.add_option("--set", overrides, "override a config key: --set key=value (value is JSON)");
   app.add_option("--threads", options.threads, "threads for parallel work (default: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string {
+            std::size_t used = 0;
+            long long n = -1;
+            try {
+              n = std::stoll(s, &used);
+            } catch (const std::exception&) {
+            }
+            if (used != s.size() || n < 0 || n > kMaxThreads)
+              return "--threads must be 0 (all cores) or a number of threads from 1 to " +
+                     std::to_string(kMaxThreads) + " (got '" + s + "')";
+            return "";
+          },
+          "INT in [0, 1024]"));
   app.add_flag("--quiet,-q", options.quiet, "no progress reports on stderr");
   app.footer(schema.help_text());
   app.get_formatter()->column_width(28);
@@ -33,11 +52,17 @@ int run_app(int argc, char** argv, const ConfigSchema& schema,
     return 2;
   }
   if (!options.quiet) options.progress = terminal_progress();
+  install_signal_cleanup(schema.tool.c_str());
   try {
     set_threads(options.threads);
     Config config = Config::load(config_path, schema);
     for (const auto& o : overrides) config.set_override(o, schema);
-    return body(config, options);
+    // all outputs of the run or none: staged next to their destinations, moved into place at the end
+    OutputTransaction outputs;
+    declare_run_files(config, outputs);
+    const int status = body(config, options);
+    if (status == 0) outputs.commit();
+    return status;
   } catch (const Error& e) {
     std::cerr << schema.tool << ": error: " << e.what() << "\n";
   } catch (const nlohmann::json::exception& e) {

@@ -1,11 +1,15 @@
 #include "tools/compare_tool.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "vehs/core/error.hpp"
+#include "vehs/core/model.hpp"
 #include "vehs/core/parameters.hpp"
 #include "tools/table.hpp"
 #include "vehs/io/json_file.hpp"
@@ -32,7 +36,45 @@ ConfigSchema make_schema() {
 
 double stat(const nlohmann::json& j, const std::string& key, const std::string& file) {
   if (!j.contains(key) || !j[key].is_number()) throw Error(file + ": no number '" + key + "'");
-  return j[key].get<double>();
+  const double v = j[key].get<double>();
+  if (!std::isfinite(v)) throw Error(file + ": '" + key + "' is not finite");
+  return v;
+}
+
+bool same_terms(const TermList& a, const TermList& b) {
+  auto nonzero = [](const TermList& t) {
+    std::map<std::string, double> m;
+    for (const auto& tc : t)
+      if (tc.coef != 0.0) m[tc.term.name()] = tc.coef;
+    return m;
+  };
+  const auto ma = nonzero(a), mb = nonzero(b);
+  if (ma.size() != mb.size()) return false;
+  for (const auto& [name, coef] : ma) {
+    const auto it = mb.find(name);
+    if (it == mb.end() || std::abs(it->second - coef) > 1e-12 * std::max(std::abs(coef), std::abs(it->second)))
+      return false;
+  }
+  return true;
+}
+
+bool same_model(const Model& a, const Model& b) {
+  return same_terms(a.drift, b.drift) && same_terms(a.diffusion, b.diffusion) && a.effects.size() == b.effects.size();
+}
+
+// Which of the compared models the statistics file `path` was computed for ("learned", "true",
+// the reported label); an error when it names none of them or records no model (a file of another
+// model would otherwise be printed as the learned model's response).
+std::string owner_of(const nlohmann::json& stats, const std::string& path, const Config& c,
+                     const std::vector<std::pair<std::string, const Model*>>& models) {
+  if (!stats.is_object() || !stats.contains("model"))
+    throw Error(path + ": records no 'model', so it cannot be checked against " + c.string("learned") +
+                " (rewrite it with the current fpk-stationary / simulate-vehs)");
+  const Model m = model_from_json(stats["model"], path + ": 'model'");
+  for (const auto& [label, candidate] : models)
+    if (candidate && same_model(m, *candidate)) return label;
+  throw Error(path + ": was computed for another model than 'learned' " + c.string("learned") +
+              (models.size() > 1 ? " (and than the truth and reported models)" : ""));
 }
 
 }  // namespace
@@ -43,10 +85,16 @@ const ConfigSchema& compare_schema() {
 }
 
 int run_compare(Config& c, const AppOptions&) {
-  const auto learned = load_model_file(c.string("learned"));
+  auto checked_model = [&](const std::string& key) {  // a model the library would refuse is no table entry
+    const std::string path = c.string(key);
+    Model m = load_model_file(path);
+    validate_model(m, path);
+    return m;
+  };
+  const Model learned = checked_model("learned");
   std::optional<Model> truth, reported;
-  if (c.has("truth")) truth = load_model_file(c.string("truth"));
-  if (c.has("reported")) reported = load_model_file(c.string("reported"));
+  if (c.has("truth")) truth = checked_model("truth");
+  if (c.has("reported")) reported = checked_model("reported");
   const std::string rlabel = c.string_or("reported_label", "paper");
 
   // union of parameter names, in the learned model's order, then the others
@@ -107,18 +155,32 @@ int run_compare(Config& c, const AppOptions&) {
                 same_diffusion ? "exactly the true ones" : "differs from the truth");
   }
   if (c.has("fpk") || c.has("monte_carlo")) {
-    std::printf("\nStationary response of the learned model (mean power E(P) is proportional to E[Y^2]):\n");
     nlohmann::json fpk, mc;
-    if (c.has("fpk")) fpk = read_json_file(c.string("fpk"), "FPK result");
-    if (c.has("monte_carlo")) mc = read_json_file(c.string("monte_carlo"), "Monte Carlo statistics");
+    const std::vector<std::pair<std::string, const Model*>> models = {
+        {"learned", &learned}, {"true", truth ? &*truth : nullptr}, {rlabel, reported ? &*reported : nullptr}};
+    std::string mc_owner;
+    if (c.has("fpk")) {
+      fpk = read_json_file(c.string("fpk"), "FPK result");
+      (void)owner_of(fpk, c.string("fpk"), c, {models[0]});  // an FPK file must solve the learned model
+    }
+    if (c.has("monte_carlo")) {
+      mc = read_json_file(c.string("monte_carlo"), "Monte Carlo statistics");
+      mc_owner = owner_of(mc, c.string("monte_carlo"), c, models);
+    }
+    std::printf("\nStationary response of the learned model (mean power E(P) is proportional to E[Y^2]):\n");
     for (const char* key : {"E[X^2]", "E[Y^2]", "E[XY]"}) {
       std::printf("  %-7s", key);
       if (c.has("fpk")) std::printf("  FPK %.6f", stat(fpk, key, c.string("fpk")));
       if (c.has("monte_carlo")) {
         const double v = stat(mc, key, c.string("monte_carlo"));
-        const double se = mc.contains("stderr") ? stat(mc["stderr"], key, c.string("monte_carlo")) : NAN;
-        std::printf("   Monte Carlo %.6f +- %.6f", v, se);
-        if (c.has("fpk") && se > 0)
+        const bool has_se = mc.contains("stderr") && mc["stderr"].is_object() && mc["stderr"].contains(key);
+        const double se = has_se ? stat(mc["stderr"], key, c.string("monte_carlo")) : 0.0;
+        const std::string of = mc_owner == "learned" ? "" : " (of the " + mc_owner + " model)";
+        if (se > 0)
+          std::printf("   Monte Carlo%s %.6f +- %.6f", of.c_str(), v, se);
+        else
+          std::printf("   Monte Carlo%s %.6f (no standard error)", of.c_str(), v);
+        if (c.has("fpk") && se > 0 && mc_owner == "learned")
           std::printf("   (difference %+.2f se)", (stat(fpk, key, c.string("fpk")) - v) / se);
       }
       std::printf("\n");

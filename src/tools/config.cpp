@@ -40,11 +40,7 @@ std::string suggestion(const std::string& key, const std::vector<std::string>& a
   return " (allowed: " + all + ")";
 }
 
-std::string type_name(const nlohmann::json& v) {
-  std::string s = v.dump();
-  if (s.size() > 40) s = s.substr(0, 37) + "...";
-  return s;
-}
+std::string type_name(const nlohmann::json& v) { return json_excerpt(v); }
 
 }  // namespace
 
@@ -111,10 +107,14 @@ void Config::set_override(const std::string& assignment, const ConfigSchema& sch
     throw Error("--set: unknown key '" + key + "'" + suggestion(key, allowed));
   }
   nlohmann::json v;
-  try {
-    v = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error&) {
-    v = text;  // bare strings need no quotes
+  if (!text.empty() && (text.front() == '[' || text.front() == '{')) {
+    v = parse_json_text(text, "--set " + key);  // a list or object must be valid JSON
+  } else {
+    try {
+      v = parse_json_text(text, "--set " + key);
+    } catch (const Error&) {
+      v = text;  // bare strings need no quotes
+    }
   }
   value_[key] = v;
 }

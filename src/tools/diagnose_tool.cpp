@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "tools/data_checks.hpp"
 #include "tools/diagnosis_file.hpp"
 #include "tools/diagnosis_report.hpp"
 #include "tools/history.hpp"
@@ -62,6 +63,7 @@ const ConfigSchema& diagnose_schema() {
            "Sampling interval: used for files without a time column, and checked against the time column of the "
            "others (a record sampled at another interval is an error).",
            "", true},
+          glitches_key_spec(),
           {"detrend", "string", "\"mean\": subtract each record's mean from x and u; \"none\": use the data as they are.", "\"none\""},
           {"seed", "integer", "Seed of the twins and refits (results are reproducible and independent of the thread count).", "1"},
           {"replicates", "integer", "Twins per record; 0 chooses enough for at least 2e6 twin samples (1 to 8).", "0"},
@@ -227,7 +229,7 @@ int run_diagnose(Config& c, const AppOptions& app) {
   ro.min_samples = 16;
   const auto files = c.string_list("data");
   if (files.empty()) c.fail("data", "lists no file");
-  Dataset data = read_measurements(files, ro);
+  Dataset data = checked_measurements(c, read_measurements(files, ro));
   const std::string detrend = c.string_or("detrend", "none");
   if (detrend == "mean")
     subtract_record_means(data);

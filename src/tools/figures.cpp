@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "vehs/io/atomic_file.hpp"
+#include "vehs/io/output_transaction.hpp"
 
 namespace vehs::tools {
 
@@ -18,7 +19,8 @@ std::string render_figure(const std::string& dir, const std::string& name, const
                           const std::string& format, int width, int height) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  fs::create_directories(dir, ec);
+  OutputTransaction* transaction = OutputTransaction::active();
+  if (!transaction) fs::create_directories(dir, ec);
   const std::string out = name + "." + format;
   std::ostringstream script;
   if (format == "svg")
@@ -33,14 +35,19 @@ std::string render_figure(const std::string& dir, const std::string& name, const
                  dir.c_str(), name.c_str());
     return "";
   }
-  const std::string cmd = "cd '" + dir + "' && gnuplot '" + name + ".gp' 2>'" + name + ".log'";
+  // gnuplot writes the figure next to the script: in the staging folder inside a transaction, where
+  // the script and its data files are until the run commits
+  const std::string work = transaction ? transaction->staging_directory(dir) : dir;
+  const std::string cmd = "cd '" + work + "' && gnuplot '" + name + ".gp' 2>'" + name + ".log'";
   if (std::system(cmd.c_str()) != 0) {
-    fs::remove(fs::path(dir) / out, ec);  // gnuplot leaves a partial figure behind
+    fs::remove(fs::path(work) / out, ec);  // gnuplot leaves a partial figure behind
+    if (transaction) transaction->adopt((fs::path(dir) / (name + ".log")).string());
     std::fprintf(stderr, "warning: gnuplot failed on %s/%s.gp (see %s.log)\n", dir.c_str(),
                  name.c_str(), name.c_str());
     return "";
   }
-  fs::remove(fs::path(dir) / (name + ".log"), ec);
+  fs::remove(fs::path(work) / (name + ".log"), ec);
+  if (transaction) transaction->adopt((fs::path(dir) / out).string());
   return (fs::path(dir) / out).string();
 }
 

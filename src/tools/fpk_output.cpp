@@ -149,6 +149,7 @@ nlohmann::ordered_json sweep_to_json(const SweepResult& sw) {
       o["E[Y^2]"] = p.moments.eyy;
       o["E[XY]"] = p.moments.exy;
       o["boundary_mass"] = p.boundary_mass;
+      if (p.own_domain) o["grid"] = "own automatic domain (the shared grid did not resolve this point)";
       auto wm = nlohmann::ordered_json::array();
       for (const auto& w : p.wells) wm.push_back({{"x_min", w.x_min}, {"mass", w.mass}});
       o["wells"] = wm;
@@ -238,9 +239,10 @@ std::vector<std::string> sweep_figures(const std::string& dir, const SweepResult
     os << sw.axes[0].name << ',' << sw.axes[1].name << ",E[X^2],E[Y^2]\n" << std::setprecision(10);
     for (std::size_t k = 0; k < sw.points.size(); ++k) {
       const auto& p = sw.points[k];
-      const double nan = std::nan("");
-      os << p.parameters[0] << ',' << p.parameters[1] << ',' << (p.error.empty() ? p.moments.exx : nan)
-         << ',' << (p.error.empty() ? p.moments.eyy : nan) << '\n';
+      os << p.parameters[0] << ',' << p.parameters[1] << ',';  // a failed point: empty cells (gnuplot: missing)
+      if (p.error.empty()) os << p.moments.exx << ',' << p.moments.eyy;
+      else os << ',';
+      os << '\n';
       if ((k + 1) % n2 == 0) os << '\n';
     }
   });

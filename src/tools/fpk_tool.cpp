@@ -6,11 +6,13 @@
 
 #include "tools/fpk_output.hpp"
 #include "vehs/conventions.hpp"
+#include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/core/parameters.hpp"
 #include "vehs/fpk/stationary.hpp"
 #include "vehs/io/atomic_file.hpp"
+#include "vehs/io/json_file.hpp"
 #include "vehs/io/model_file.hpp"
 
 namespace vehs::tools {
@@ -92,6 +94,12 @@ std::string stem_of(const std::string& path) {
   return (p.parent_path() / p.stem()).string();
 }
 
+constexpr long long kMaxCellsPerAxis = 20000;  // Grid::invalid_reason's limit
+constexpr double kMaxEfolds = 100.0;
+// SOR: sweeps x cells, about a minute of work on one core (the paper's alpha = 0.01 needs ~1e5
+// sweeps); more is an error before the solve, not a run without end
+constexpr double kMaxSorCellUpdates = 2e10;
+
 GridRequest parse_grid(const Config& cfg) {
   GridRequest req;
   req.grid.x.n = 400;
@@ -104,20 +112,24 @@ GridRequest parse_grid(const Config& cfg) {
     Axis& a = std::string(ax) == "x" ? req.grid.x : req.grid.y;
     bool& automatic = std::string(ax) == "x" ? req.auto_x : req.auto_y;
     if (v.is_number_integer()) {
-      a.n = static_cast<int>(g.integer(ax));
-      if (a.n < 3) g.fail(ax, "must have at least 3 cells");
+      const long long n = g.integer(ax);
+      if (n < 3 || n > kMaxCellsPerAxis)
+        g.fail(ax, "must have from 3 to " + std::to_string(kMaxCellsPerAxis) + " cells (got " + std::to_string(n) + ")");
+      a.n = static_cast<int>(n);
       automatic = true;
     } else if (v.is_array() && v.size() == 3 && v[0].is_number() && v[1].is_number() &&
                v[2].is_number_integer()) {
       a.min = v[0].get<double>();
       a.max = v[1].get<double>();
-      a.n = v[2].get<int>();
+      const long long n = v[2].get<long long>();
       if (!(std::isfinite(a.min) && std::isfinite(a.max) && a.min < a.max))
-        g.fail(ax, "needs min < max (got [" + v[0].dump() + ", " + v[1].dump() + "])");
-      if (a.n < 3) g.fail(ax, "must have at least 3 cells");
+        g.fail(ax, "needs min < max (got [" + json_excerpt(v[0]) + ", " + json_excerpt(v[1]) + "])");
+      if (n < 3 || n > kMaxCellsPerAxis)
+        g.fail(ax, "must have from 3 to " + std::to_string(kMaxCellsPerAxis) + " cells (got " + std::to_string(n) + ")");
+      a.n = static_cast<int>(n);
       automatic = false;
     } else {
-      g.fail(ax, "must be [min, max, n] with integer n, or a cell count n (got " + v.dump() + ")");
+      g.fail(ax, "must be [min, max, n] with integer n, or a cell count n (got " + json_excerpt(v) + ")");
     }
   }
   return req;
@@ -142,7 +154,7 @@ std::vector<SweepAxis> parse_sweep(const Config& cfg) {
         a.values.push_back(x.get<double>());
       }
     } else {
-      s.fail(a.name, "must be [min, max, n] or {\"values\": [...]} (got " + v.dump() + ")");
+      s.fail(a.name, "must be [min, max, n] or {\"values\": [...]} (got " + json_excerpt(v) + ")");
     }
     axes.push_back(a);
   }
@@ -164,6 +176,10 @@ FpkSettings fpk_settings(const Config& cfg) {
   opt.solver = enum_from_string(kSolverNames, cfg.string_or("solver", "direct"), cfg.where("solver"));
   opt.ordering = enum_from_string(kOrderingNames, cfg.string_or("ordering", "auto"), cfg.where("ordering"));
   opt.correction_steps = static_cast<int>(cfg.integer_at_least("correction_steps", 0, opt.correction_steps));
+  // settings of a solver that is not used would be ignored silently
+  if (cfg.has("sor") && opt.solver != Solver::Sor) cfg.fail("sor", "is given but 'solver' is not \"sor\"");
+  if (cfg.has("iterative") && opt.solver != Solver::Bicgstab)
+    cfg.fail("iterative", "is given but 'solver' is not \"bicgstab\"");
   if (cfg.has("sor")) {
     const Config s = cfg.object("sor", {"alpha", "tolerance", "max_iterations", "normalize_every"});
     opt.sor.alpha = s.positive_or("alpha", opt.sor.alpha);
@@ -182,7 +198,20 @@ FpkSettings fpk_settings(const Config& cfg) {
   DomainOptions& dom = st.domain;
   dom.boundary_mass_tolerance = cfg.positive_or("boundary_mass_tolerance", dom.boundary_mass_tolerance);
   dom.log_density_drop = cfg.positive_or("auto_domain_efolds", dom.log_density_drop);
+  if (dom.log_density_drop > kMaxEfolds)
+    cfg.fail("auto_domain_efolds", "must be at most " + std::to_string(static_cast<int>(kMaxEfolds)) +
+                                       " (the domain edge has density e^-K of the peak; 25 is plenty)");
   st.grid = parse_grid(cfg);
+  const GridRequest& req = st.grid;
+  if (opt.solver == Solver::Sor) {
+    const double updates = static_cast<double>(opt.sor.max_iterations) * req.grid.x.n * req.grid.y.n;
+    if (updates > kMaxSorCellUpdates)
+      cfg.fail(cfg.has("sor") ? "sor" : "solver",
+               "sor: max_iterations " + std::to_string(opt.sor.max_iterations) + " x " +
+                   std::to_string(req.grid.x.n * req.grid.y.n) + " cells is more than the 2e10 cell " +
+                   "updates allowed: lower sor.max_iterations to " + std::to_string(static_cast<long long>(kMaxSorCellUpdates /
+                   (req.grid.x.n * static_cast<double>(req.grid.y.n)))) + " or less, or use the direct solver");
+  }
   if (cfg.has("sweep")) st.axes = parse_sweep(cfg);  // parse and check before the long solve
   return st;
 }
@@ -194,11 +223,16 @@ int run_fpk(Config& cfg, const AppOptions& app) {
       cfg.raw("model").is_string() ? cfg.raw("model").get<std::string>() : cfg.where("model");
   const FpkModel fm(model, model_where);
   const std::string output = cfg.string("output");
-  const FpkSettings st = fpk_settings(cfg);
+  FpkSettings st = fpk_settings(cfg);
+  st.solve.sor.progress = app.progress && st.solve.solver == Solver::Sor;
   const SolveOptions& opt = st.solve;
   const DomainOptions& dom = st.domain;
   const GridRequest& req = st.grid;
   const std::vector<SweepAxis>& axes = st.axes;
+  if (const double bytes = estimated_solve_bytes(static_cast<std::size_t>(req.grid.x.n) * req.grid.y.n, opt);
+      bytes > 1e9 && !app.quiet)
+    std::cerr << "fpk-stationary: " << req.grid.x.n << "x" << req.grid.y.n << " cells: about " << bytes / 1e9
+              << " GB of memory per solve (limit: 3/4 of physical memory)\n";
   for (const auto& a : axes) {
     try {
       (void)get_parameter(model, a.name);
@@ -225,6 +259,17 @@ int run_fpk(Config& cfg, const AppOptions& app) {
     so.domain = dom;
     so.progress = app.progress;
     const SweepResult sw = sweep(model, axes, req, so);
+    std::size_t failed = 0;
+    for (const auto& p : sw.points) {
+      if (p.error.empty()) continue;
+      ++failed;
+      std::string at;
+      for (std::size_t a = 0; a < axes.size(); ++a)
+        at += (a ? ", " : "") + axes[a].name + " = " + vehs::detail::format_number(p.parameters[a], 6);
+      std::cerr << "fpk-stationary: warning: sweep point " << at << " failed: " << p.error << "\n";
+    }
+    if (failed == sw.points.size())
+      throw Error(cfg.where("sweep") + ": every point failed (first: " + sw.points.front().error + ")");
     const std::string table = cfg.string_or("sweep_table", stem_of(output) + ".sweep.csv");
     write_sweep_table(table, sw);
     out["sweep"] = sweep_to_json(sw);

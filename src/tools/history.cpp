@@ -11,6 +11,7 @@
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/io/model_file.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/io/json_file.hpp"
 
 namespace vehs::tools {
 
@@ -103,10 +104,11 @@ nlohmann::ordered_json history_entry(const Model& model, const std::string& mode
 std::vector<nlohmann::ordered_json> read_history(const std::string& path) {
   std::vector<nlohmann::ordered_json> out;
   if (!std::filesystem::exists(path)) return out;
-  std::ifstream in(path);
+  const std::string text = read_text_file(path, "history file");  // read, not protected: it is also an output
   nlohmann::ordered_json j;
   try {
-    in >> j;
+    check_json_text(text, path);
+    j = nlohmann::ordered_json::parse(text);
   } catch (const std::exception& e) {
     throw Error(path + ": not a valid history file (" + std::string(e.what()) +
                 "); move it away or name another file with 'history'");

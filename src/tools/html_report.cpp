@@ -6,6 +6,7 @@
 
 #include "tools/figures.hpp"
 #include "vehs/io/atomic_file.hpp"
+#include "vehs/io/output_transaction.hpp"
 #include "vehs/core/error.hpp"
 
 namespace vehs::tools {
@@ -134,7 +135,8 @@ std::string Report::write_html() const {
       h << "</table>\n";
     }
     for (const auto& f : s.figures) {
-      const fs::path svg = fs::path(folder_) / (f.name + ".svg");
+      // read from where this run's figure is now (staged until the run's outputs are committed)
+      const fs::path svg = current_output_path((fs::path(folder_) / (f.name + ".svg")).string());
       h << "<figure id=\"" << html_escape(f.name) << "\">";
       if (f.rendered && fs::exists(svg))
         h << "<img alt=\"" << html_escape(f.caption.substr(0, 80)) << "\" src=\"data:image/svg+xml;base64,"

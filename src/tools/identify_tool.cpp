@@ -1,6 +1,8 @@
 #include "tools/identify_tool.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -8,6 +10,7 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/core/parameters.hpp"
+#include "tools/data_checks.hpp"
 #include "tools/identify_file.hpp"
 #include "tools/likelihood_refinement.hpp"
 #include "vehs/likelihood/signals.hpp"
@@ -230,7 +233,8 @@ const ConfigSchema& identify_schema() {
            "cross-validation over contiguous time, one-standard-error rule), cv_min. CV figures "
            "and BIC of every step are written either way.",
            "\"bic\""},
-          {"folds", "integer", "Cross-validation folds: contiguous time blocks of every record.", "10"},
+          {"folds", "integer", "Cross-validation folds: contiguous time blocks of every record (at most 1000 and at "
+           "most one per 100 samples of the data).", "10"},
           {"stlsq_threshold", "number", "STLSQ: |coef| threshold (coefficient units).", "0.05"},
           {"se_block", "integer",
            "Rows per batch of the batch-means covariance behind the standard errors (0: "
@@ -244,6 +248,7 @@ const ConfigSchema& identify_schema() {
            "automatic stride aims at (higher: smaller stride, less discretisation bias, more "
            "variance).",
            "0.95"},
+          glitches_key_spec(),
           {"study", "object",
            "Consistency study instead of identification: {\"truth\": model or path, \"dt\": "
            "number or list, \"samples\": number or list (per record; the grid is dt x samples), "
@@ -292,6 +297,13 @@ identify::Options identify_options(const Config& c) {
     const Config k = c.object("keep_terms", {"drift", "diffusion"});
     if (k.has("drift")) o.keep_drift = parse_term_list(k, "drift");
     if (k.has("diffusion")) o.keep_diffusion = parse_term_list(k, "diffusion");
+    // a kept term outside its dictionary would be silently ignored
+    for (const auto& [list, library, name] : {std::tuple(&o.keep_drift, &o.drift_library, "drift"),
+                                              std::tuple(&o.keep_diffusion, &o.diffusion_library, "diffusion")})
+      for (const Term& t : *list)
+        if (std::find(library->begin(), library->end(), t) == library->end())
+          k.fail(name, "keeps '" + t.name() + "', which is not in the " + name + " dictionary ('" + name +
+                           "_library')");
   }
   o.estimator = enum_from_string(kEstimatorNames, moment_estimator_name(c), c.where("estimator"));
   o.stride = static_cast<int>(c.integer_at_least("stride", 0, 0));
@@ -303,7 +315,12 @@ identify::Options identify_options(const Config& c) {
   }
   o.criterion = enum_from_string(kCriterionNames, c.string_or("criterion", "bic"), c.where("criterion"));
   o.folds = static_cast<int>(c.integer_at_least("folds", 1, 10));
+  if (o.folds > 1000) c.fail("folds", "must be at most 1000 (got " + std::to_string(o.folds) + ")");
   o.stlsq_threshold = c.non_negative_or("stlsq_threshold", 0.05);
+  // settings of a sparsity rule that is not used would be ignored silently
+  if (c.has("stlsq_threshold") && o.sparsity != Sparsity::Stlsq)
+    c.fail("stlsq_threshold", "is given but 'sparsity' is not \"stlsq\"");
+  if (c.has("ssr_rule") && o.sparsity != Sparsity::Ssr) c.fail("ssr_rule", "is given but 'sparsity' is not \"ssr\"");
   o.se_block = static_cast<std::size_t>(c.integer_at_least("se_block", 0, 0));
   o.pilot_samples = static_cast<std::size_t>(c.integer_at_least("pilot_samples", 1000, 250000));
   o.noise_share_target = c.number_or("noise_share_target", 0.95);
@@ -384,7 +401,10 @@ int run_identify(Config& c, const AppOptions& app) {
   for (const auto& t : o.drift_library) need_u = need_u || t.depends_on_u();
   const ReadOptions ro = identify_read_options(c, need_u);
   const auto files = c.string_list("data");
-  Dataset data = read_measurements(files, ro);
+  Dataset data = checked_measurements(c, read_measurements(files, ro));
+  if (static_cast<std::size_t>(o.folds) * 100 > data.total_samples())
+    c.fail("folds", "= " + std::to_string(o.folds) + " leaves fewer than 100 samples per fold (the data have " +
+                        std::to_string(data.total_samples()) + ")");
   const std::string detrend = c.string_or("detrend", "none");
   if (detrend == "mean")
     subtract_record_means(data);

@@ -284,8 +284,19 @@ SimulateJob simulate_job_from_config(const Config& c) {
       s.fail("grid", "is needed for histograms (px, py, pxy)");
     }
     if (auto why = job.statistics.invalid_reason(); !why.empty()) c.fail("statistics", why);
-    if (static_cast<double>(std::llround(job.statistics.discard / o.dt)) >= static_cast<double>(o.samples))
+    const double discarded = static_cast<double>(std::llround(job.statistics.discard / o.dt));
+    if (discarded >= static_cast<double>(o.samples))
       s.fail("discard", "leaves no samples (records last " + num(duration) + ")");
+    if (s.has("batches")) {  // batch means are used only with fewer than 16 records; a batch needs >= 100 samples
+      if (o.records >= job.statistics.min_records_for_spread)
+        s.fail("batches", "is not used: with " + std::to_string(o.records) + " >= " +
+                              std::to_string(job.statistics.min_records_for_spread) +
+                              " records the standard errors come from the spread of the records");
+      const double kept = static_cast<double>(o.samples) - discarded;
+      if (static_cast<double>(job.statistics.batches) * 100.0 > kept)
+        s.fail("batches", "= " + std::to_string(job.statistics.batches) + " leaves fewer than 100 samples per batch (" +
+                              num(kept) + " samples per record after 'discard')");
+    }
   }
   if (job.output.empty() && !job.with_statistics)
     throw Error(c.file() + ": give 'output' (records) and/or 'statistics' — nothing would be written");
@@ -301,7 +312,9 @@ SimulateJob simulate_job_from_config(const Config& c) {
     if (job.with_statistics) c.fail("record_phases", "cannot be combined with 'statistics'");
   }
 
-  check_simulation(job.model, o, c.file());
+  if (auto why = o.invalid_reason(); !why.empty()) throw Error(c.file() + ": " + why);
+  // model errors name the model file (or the config key of an inline model)
+  check_simulation(job.model, o, c.raw("model").is_string() ? c.raw("model").get<std::string>() : c.where("model"));
   return job;
 }
 
@@ -400,6 +413,7 @@ int run_simulate_job(const SimulateJob& job, const AppOptions& app) {
     sim["first_record"] = o.first_record;
     nlohmann::ordered_json extra;
     extra["simulation"] = sim;
+    extra["model"] = model_to_json(job.model, job.model_sections);  // lets vehs-compare check what it labels
     write_statistics(stats, job.statistics_json, job.px_csv, job.py_csv, job.pxy_csv, extra);
   }
   if (!job.summary.empty()) {

@@ -1,5 +1,6 @@
 #include "tools/table.hpp"
 
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 
@@ -30,7 +31,10 @@ std::string Table::to_csv(int precision) const {
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const auto& r = rows[k];
     if (labelled) os << labels[k] << (r.empty() ? "" : ",");
-    for (std::size_t i = 0; i < r.size(); ++i) os << (i ? "," : "") << r[i];
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      if (i) os << ',';
+      if (std::isfinite(r[i])) os << r[i];  // a missing value is an empty cell, never "nan"
+    }
     os << "\n";
   }
   return os.str();

@@ -1,5 +1,6 @@
 #pragma once
-// Numeric tables written as CSV (sweeps, figure data, study results, parameter tables).
+// Numeric tables written as CSV (sweeps, figure data, study results, parameter tables). A
+// non-finite value (a failed sweep point, a parameter a model lacks) is written as an empty cell.
 #include <string>
 #include <vector>
 

@@ -22,6 +22,9 @@ struct SweepPoint {
   double boundary_mass = 0.0;
   double residual = 0.0;
   std::vector<Well> wells;
+  /// Solved on its own automatic domain (same cell counts) because the shared grid did not
+  /// resolve it (boundary mass above the tolerance or negative density).
+  bool own_domain = false;
   std::string error;               ///< non-empty when this point could not be solved
 };
 

@@ -1,6 +1,9 @@
 #pragma once
 // Outputs written atomically: into a temporary file in the target's directory, then rename(2),
-// so that a failed or interrupted run never leaves a partial file behind.
+// so that a failed or interrupted run never leaves a partial file behind (the temporary is
+// registered for the signal handler of output_transaction.hpp). Inside an OutputTransaction the
+// file is staged instead and moved into place with the run's other outputs at commit. The path is
+// checked first (check_output_path: never a directory, device, pipe or symbolic link).
 #include <functional>
 #include <iosfwd>
 #include <string>

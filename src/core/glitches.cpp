@@ -1,0 +1,97 @@
+#include "vehs/core/glitches.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace vehs {
+
+namespace {
+
+double half_second_difference(const double* x, std::size_t i) { return x[i] - 0.5 * (x[i - 1] + x[i + 1]); }
+
+// 1.4826·MAD of r_i over at most 2^17 evenly spaced interior samples.
+double robust_sd(const double* x, std::size_t n) {
+  const std::size_t interior = n - 2, cap = std::size_t{1} << 17;
+  const std::size_t step = std::max<std::size_t>(1, interior / cap);
+  std::vector<double> r;
+  r.reserve(interior / step + 1);
+  for (std::size_t i = 1; i + 1 < n; i += step) r.push_back(half_second_difference(x, i));
+  auto median = [](std::vector<double>& v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  const double m = median(r);
+  for (double& v : r) v = std::abs(v - m);
+  return 1.4826 * median(r);
+}
+
+}  // namespace
+
+std::vector<Glitch> find_glitches(const Dataset& data, double threshold) {
+  std::vector<Glitch> out;
+  for (std::size_t k = 0; k < data.records.size(); ++k) {
+    const Record& rec = data.records[k];
+    if (rec.size < 16) continue;
+    const double* x = data.x_of(rec);
+    const double sd = robust_sd(x, rec.size);
+    if (!(sd > 0.0) || !std::isfinite(sd)) continue;  // a constant or non-finite record: other checks
+    for (std::size_t i = 3; i + 3 < rec.size; ++i) {
+      const double r = half_second_difference(x, i);
+      if (!(std::abs(r) > threshold * sd)) continue;
+      const double quarter = 0.25 * std::abs(r);
+      const bool neighbours = std::abs(half_second_difference(x, i - 1) + 0.5 * r) < quarter &&
+                              std::abs(half_second_difference(x, i + 1) + 0.5 * r) < quarter;
+      const bool isolated = std::abs(half_second_difference(x, i - 2)) < quarter &&
+                            std::abs(half_second_difference(x, i + 2)) < quarter;
+      if (neighbours && isolated) out.push_back({k, i, rec.first_line + i, x[i], std::abs(r) / sd});
+    }
+  }
+  return out;
+}
+
+std::string describe_glitches(const Dataset& data, const std::vector<Glitch>& glitches, std::size_t max_listed) {
+  std::string s;
+  for (std::size_t g = 0; g < glitches.size() && g < max_listed; ++g) {
+    const Glitch& gl = glitches[g];
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "line %zu (x = %.6g, %.2g robust sd off its neighbours)", gl.line, gl.x, gl.score);
+    const std::string& source = data.records[gl.record].source;
+    s += (g == 0 ? "" : ", ") + (g == 0 || source != data.records[glitches[g - 1].record].source ? source + ": " : "") + buf;
+  }
+  if (glitches.size() > max_listed) s += " and " + std::to_string(glitches.size() - max_listed) + " more";
+  return s;
+}
+
+Dataset drop_glitches(const Dataset& data, const std::vector<Glitch>& glitches, std::size_t min_samples) {
+  Dataset out;
+  std::size_t g = 0;
+  auto piece = [&](const Record& rec, std::size_t from, std::size_t to) {  // samples [from, to)
+    if (to - from < std::max<std::size_t>(min_samples, 2)) return;
+    Record r = rec;
+    r.offset = out.x.size();
+    r.size = to - from;
+    r.first_line = rec.first_line + from;
+    r.t0 = rec.t0 + static_cast<double>(from) * rec.dt;
+    out.x.insert(out.x.end(), data.x.begin() + static_cast<std::ptrdiff_t>(rec.offset + from),
+                 data.x.begin() + static_cast<std::ptrdiff_t>(rec.offset + to));
+    if (data.has_u())
+      out.u.insert(out.u.end(), data.u.begin() + static_cast<std::ptrdiff_t>(rec.offset + from),
+                   data.u.begin() + static_cast<std::ptrdiff_t>(rec.offset + to));
+    if (data.has_y())
+      out.y.insert(out.y.end(), data.y.begin() + static_cast<std::ptrdiff_t>(rec.offset + from),
+                   data.y.begin() + static_cast<std::ptrdiff_t>(rec.offset + to));
+    out.records.push_back(r);
+  };
+  for (std::size_t k = 0; k < data.records.size(); ++k) {
+    std::size_t from = 0;
+    for (; g < glitches.size() && glitches[g].record == k; ++g) {
+      piece(data.records[k], from, glitches[g].sample);
+      from = glitches[g].sample + 1;
+    }
+    piece(data.records[k], from, data.records[k].size);
+  }
+  return out;
+}
+
+}  // namespace vehs

@@ -1,0 +1,104 @@
+#include "tools/run_files.hpp"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "vehs/core/error.hpp"
+
+namespace vehs::tools {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+bool is_output_file_key(const std::string& key) {
+  static const char* const keys[] = {"output", "summary", "density", "sweep_table", "history", "px", "py", "pxy"};
+  return std::find(std::begin(keys), std::end(keys), key) != std::end(keys);
+}
+
+// keys whose string values name input files in every tool (the model may also be inline)
+bool is_input_file_key(const std::string& key) {
+  static const char* const keys[] = {"data", "model", "learned", "truth", "reported", "monte_carlo", "path"};
+  return std::find(std::begin(keys), std::end(keys), key) != std::end(keys);
+}
+
+bool is_output_folder_key(const std::string& key) { return key == "figures" || key == "report"; }
+
+struct Walk {
+  const Config& config;
+  OutputTransaction& transaction;
+  std::vector<std::pair<std::string, std::string>> output_files;  // (key path, path)
+
+  void check_folder(const std::string& where, const std::string& path) const {
+    struct stat st {};
+    if (path.empty()) throw Error(config.file() + ": '" + where + "' is empty");
+    if (::stat(path.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
+      throw Error(config.file() + ": '" + where + "' must be a folder, but " + path + " is a file");
+  }
+
+  void output(const std::string& where, const std::string& path) {
+    try {
+      transaction.check_output(path);
+    } catch (const Error& e) {
+      throw Error(config.file() + ": '" + where + "': " + e.what());
+    }
+    const std::string canonical = fs::weakly_canonical(fs::absolute(path)).string();
+    for (const auto& [other_key, other] : output_files)
+      if (fs::weakly_canonical(fs::absolute(other)).string() == canonical)
+        throw Error(config.file() + ": '" + where + "' and '" + other_key + "' name the same file " + path +
+                    " (give the outputs different names)");
+    output_files.emplace_back(where, path);
+  }
+
+  // Strings of one list naming the same file (by st_dev/st_ino: also through links and "./").
+  void distinct(const std::string& where, const nlohmann::json& list) const {
+    std::vector<std::pair<std::pair<dev_t, ino_t>, std::string>> seen;
+    for (const auto& e : list) {
+      struct stat st {};
+      if (!e.is_string() || ::stat(e.get<std::string>().c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
+      const auto id = std::make_pair(st.st_dev, st.st_ino);
+      for (const auto& [other, name] : seen)
+        if (other == id)
+          throw Error(config.file() + ": '" + where + "' lists the same file twice (" + name + " and " +
+                      e.get<std::string>() + "); its samples would count twice");
+      seen.emplace_back(id, e.get<std::string>());
+    }
+  }
+
+  void value(const std::string& where, const std::string& key, const nlohmann::json& v) {
+    if (v.is_string() && is_output_file_key(key)) return output(where, v.get<std::string>());
+    if (v.is_string() && is_output_folder_key(key)) return check_folder(where, v.get<std::string>());
+    if (v.is_string() && is_input_file_key(key)) {  // a named input must exist: say which key names it
+      struct stat st {};
+      const std::string path = v.get<std::string>();
+      if (path.empty() || ::stat(path.c_str(), &st) != 0)
+        throw Error(config.file() + ": '" + where + "': " + (path.empty() ? "an empty path" : path + ": no such file"));
+      if (S_ISDIR(st.st_mode)) throw Error(config.file() + ": '" + where + "': " + path + " is a directory, not a file");
+      if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode))  // /dev/zero would be read for ever (pipes are fine)
+        throw Error(config.file() + ": '" + where + "': " + path + " is a device, not a file");
+    }
+    if (v.is_string()) return transaction.protect(v.get<std::string>(), "input '" + where + "'");
+    if (v.is_array()) {
+      distinct(where, v);
+      for (const auto& e : v) value(where, key, e);
+    } else if (v.is_object()) {
+      for (auto it = v.begin(); it != v.end(); ++it) value(where + "." + it.key(), it.key(), it.value());
+    }
+  }
+};
+
+}  // namespace
+
+void declare_run_files(const Config& config, OutputTransaction& transaction) {
+  transaction.protect(config.file(), "config file");
+  Walk walk{config, transaction, {}};
+  const auto& j = config.json();
+  for (auto it = j.begin(); it != j.end(); ++it) walk.value(it.key(), it.key(), it.value());
+}
+
+}  // namespace vehs::tools

@@ -1,0 +1,519 @@
+#!/usr/bin/env python3
+"""Throws a few hundred bad inputs at the five executables (issue 17's trial, in spirit).
+
+Every case runs one command in a fresh folder holding clean fixtures (a model file, a small
+measurement file, the tool's base config) with a time limit, and checks:
+  * the exit status is neither 0 nor a signal (1 or 2; a timeout is a failure: a hang),
+  * stderr is exactly one line (the tools run with -q) and names the file, field or row the
+    case is about (each case lists the words one of which must appear),
+  * no file of the folder was created, modified or removed (inputs intact, no partial outputs,
+    no temporary or staging files left),
+and, before the cases, that every base config succeeds (so a case fails because of its one change).
+
+Usage: run_bad_inputs.py BIN_DIR [--only SUBSTRING] [--list] [--keep DIR] [--timeout S]
+"""
+import argparse
+import hashlib
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+MODEL = {"drift": {"x": -1.0, "x^3": 7.7, "x^5": -16.3, "x^7": 12.5, "x^9": -3.1, "y": -0.1},
+         "diffusion": {"1": 0.02, "x^2": 0.01}}
+OTHER_MODEL = {"drift": {"x": -1.0, "x^3": -1.0, "y": -0.2}, "diffusion": {"1": 0.05}}
+
+BASE = {
+    "simulate-vehs": {"model": "model.json", "trajectories": 2, "duration": 5, "dt": 0.01,
+                      "output": "sim.csv"},
+    "identify-vehs": {"data": ["data.csv"], "output": "learned.json"},
+    "fpk-stationary": {"model": "model.json", "grid": {"x": 250, "y": 250}, "output": "fpk.json"},
+    "diagnose-vehs": {"model": "model.json", "data": ["data.csv"], "output": "diag.json", "replicates": 0,
+                      "suspects": False},
+    "vehs-compare": {"learned": "model.json", "truth": "model.json", "output": "cmp.csv"},
+}
+TOOLS = list(BASE)
+
+
+class Case:
+    """One command. expect: "error" (the default: one-line error, nothing written), "ok" (status 0;
+    `check(folder, stdout, stderr)` returns problems) or a signal sent after `signal_after` s
+    (status 128 + signal, nothing written)."""
+    def __init__(self, name, tool, config=None, raw=None, args=(), files=None, mentions=(), setup=None,
+                 config_name="cfg.json", expect="error", check=None, signal_after=1.0, owner=""):
+        self.name, self.tool, self.config, self.raw = name, tool, config, raw
+        self.args, self.files, self.mentions, self.setup = list(args), files or {}, list(mentions), setup
+        self.config_name, self.expect, self.check, self.signal_after = config_name, expect, check, signal_after
+        self.owner = owner  # a case another open issue fixes: its failure is listed, not counted
+
+
+def with_(tool, **changes):
+    c = json.loads(json.dumps(BASE[tool]))
+    for k, v in changes.items():
+        if v is DELETE:
+            c.pop(k, None)
+        else:
+            c[k] = v
+    return c
+
+
+DELETE = object()
+
+
+def deep(n, leaf="1"):
+    return "[" * n + leaf + "]" * n
+
+
+def csv_text(rows, header="traj,t,x"):
+    return header + "\n" + "".join(",".join(str(v) for v in r) + "\n" for r in rows)
+
+
+def cases():
+    out = []
+    add = out.append
+    # ---- every tool: the config file itself -----------------------------------------------
+    for t in TOOLS:
+        add(Case("missing config", t, args=["nope.json"], config_name=None, mentions=["nope.json"]))
+        add(Case("config is a directory", t, args=["adir"], config_name=None, mentions=["adir"],
+                 setup=lambda d: os.mkdir(os.path.join(d, "adir"))))
+        add(Case("empty config", t, raw="", mentions=["cfg.json"]))
+        add(Case("config is a FIFO without writer", t, args=["cfgfifo"], config_name=None, mentions=["cfgfifo"],
+                 setup=lambda d: os.mkfifo(os.path.join(d, "cfgfifo"))))
+        add(Case("config is /dev/zero", t, args=["/dev/zero"], config_name=None, mentions=["/dev/zero"]))
+        add(Case("model is /dev/zero", t, with_(t, **{list(BASE[t])[0]: "/dev/zero"}), mentions=["/dev/zero"]))
+        add(Case("config not JSON", t, raw="{model: x}", mentions=["cfg.json"]))
+        add(Case("trailing garbage", t, raw=json.dumps(BASE[t]) + " xyz", mentions=["cfg.json"]))
+        add(Case("two documents", t, raw=json.dumps(BASE[t]) + json.dumps(BASE[t]), mentions=["cfg.json"]))
+        add(Case("config is a list", t, raw="[1, 2]", mentions=["cfg.json"]))
+        add(Case("config is a number", t, raw="3", mentions=["cfg.json"]))
+        add(Case("nested 100000 deep in a key of wrong type", t,
+                 raw=json.dumps(BASE[t])[:-1] + ', "' + list(BASE[t])[0] + '_x": ' + deep(100000) + "}",
+                 mentions=["cfg.json"]))
+        first = list(BASE[t])[0]
+        add(Case("nested 100000 deep as a value", t,
+                 raw='{"' + first + '": ' + deep(100000) + "}", mentions=["cfg.json"]))
+        add(Case("nested 65 deep", t, raw='{"' + first + '": ' + deep(65) + "}", mentions=["cfg.json"]))
+        add(Case("unknown key", t, with_(t, outptu="x.json"), mentions=["outptu"]))
+        add(Case("NUL after the config", t, raw=json.dumps(BASE[t]) + "\x00garbage", mentions=["cfg.json"]))
+        add(Case("NUL in config", t, raw=json.dumps(BASE[t])[:-1] + "\x00}", mentions=["cfg.json"]))
+        add(Case("huge number", t, raw=json.dumps(BASE[t])[:-1] + ', "seed": 1e400}', mentions=["cfg.json"]))
+        # wrong types for every key of the base config
+        for key in BASE[t]:
+            for bad in ({}, [], True, None, -1, "", "text", deep(50, "0")):
+                v = json.loads(bad) if isinstance(bad, str) and bad.startswith("[") else bad
+                base = BASE[t][key]
+                if isinstance(base, bool) and isinstance(v, bool):
+                    continue
+                if v == {} and (isinstance(base, dict) or key == "suspects"):
+                    continue  # an object of optional keys may be empty
+                if isinstance(base, str) and isinstance(v, str) and v != "":
+                    continue  # another name: a missing file, covered below
+                if isinstance(base, (int, float)) and not isinstance(base, bool) and v == "text":
+                    pass
+                if v == -1 and not isinstance(base, (int, float)):
+                    continue
+                add(Case(f"{key} = {json.dumps(v)[:20]}", t, with_(t, **{key: v}), mentions=[key, "cfg.json"]))
+        # --threads, --set
+        for th in ("-1", "abc", "100000", "1e3", ""):
+            add(Case(f"--threads {th!r}", t, BASE[t], args=["--threads", th], mentions=["threads"]))
+        add(Case("--set unknown key", t, BASE[t], args=["--set", "nokey=1"], mentions=["nokey"]))
+        add(Case("--set deep value", t, BASE[t], args=["--set", first + "=" + deep(30000)], mentions=[first]))
+        add(Case("--set broken list", t, BASE[t], args=["--set", first + "=[1,2"], mentions=[first]))
+        add(Case("unknown option", t, BASE[t], args=["--frobnicate"], mentions=["frobnicate"]))
+
+    # ---- outputs that must never be written --------------------------------------------------
+    outputs = {"simulate-vehs": ["output", "summary"], "identify-vehs": ["output"], "fpk-stationary": ["output", "density"],
+               "diagnose-vehs": ["output", "history"], "vehs-compare": ["output"]}
+    inputs = {"simulate-vehs": ["model.json"], "identify-vehs": ["data.csv"], "fpk-stationary": ["model.json"],
+              "diagnose-vehs": ["model.json", "data.csv"], "vehs-compare": ["model.json"]}
+    for t, keys in outputs.items():
+        for key in keys:
+            for inp in inputs[t] + ["cfg.json"]:
+                add(Case(f"{key} = input {inp}", t, with_(t, **{key: inp}), mentions=[inp]))
+            add(Case(f"{key} = ./ input", t, with_(t, **{key: "./" + inputs[t][0]}), mentions=[inputs[t][0]]))
+            add(Case(f"{key} = hard link of an input", t, with_(t, **{key: "hard.json"}), mentions=["hard.json"],
+                     setup=lambda d, i=inputs[t][0]: os.link(os.path.join(d, i), os.path.join(d, "hard.json"))))
+            add(Case(f"{key} = symlink to an input", t, with_(t, **{key: "link.json"}), mentions=["link.json"],
+                     setup=lambda d, i=inputs[t][0]: os.symlink(i, os.path.join(d, "link.json"))))
+            add(Case(f"{key} = symlink to /dev/null", t, with_(t, **{key: "null.json"}), mentions=["null.json"],
+                     setup=lambda d: os.symlink("/dev/null", os.path.join(d, "null.json"))))
+            add(Case(f"{key} = dangling symlink", t, with_(t, **{key: "dangling.json"}), mentions=["dangling.json"],
+                     setup=lambda d: os.symlink("nowhere/x.json", os.path.join(d, "dangling.json"))))
+            add(Case(f"{key} = a directory", t, with_(t, **{key: "outdir"}), mentions=["outdir"],
+                     setup=lambda d: os.mkdir(os.path.join(d, "outdir"))))
+            add(Case(f"{key} = 300-byte name", t, with_(t, **{key: "o" * 300 + ".json"}), mentions=["longer"]))
+            add(Case(f"{key} = a FIFO", t, with_(t, **{key: "fifo"}), mentions=["fifo"],
+                     setup=lambda d: os.mkfifo(os.path.join(d, "fifo"))))
+            add(Case(f"{key} under a file", t, with_(t, **{key: "data.csv/x.json"}), mentions=["data.csv"]))
+            add(Case(f"{key} empty", t, with_(t, **{key: ""}), mentions=[key]))
+            add(Case(f"{key} = /dev/null", t, with_(t, **{key: "/dev/null"}), mentions=["/dev/null"]))
+        if len(keys) > 1:
+            add(Case(f"{keys[0]} = {keys[1]}", t, with_(t, **{keys[0]: "same.json", keys[1]: "same.json"}),
+                     mentions=["same.json"]))
+    # (as root a mode of 555 does not stop writes: /proc refuses new files to everyone)
+    add(Case("diagnose output in an unwritable folder (report and history elsewhere)", "diagnose-vehs",
+             with_("diagnose-vehs", output="/proc/vehs_diag.json", report="rep"), mentions=["/proc"]))
+    add(Case("fpk output in an unwritable folder (figures elsewhere)", "fpk-stationary",
+             with_("fpk-stationary", output="/proc/vehs_fpk.json", density="fpk.density.csv", figures="figs"),
+             mentions=["/proc"]))
+    add(Case("identify: data listed twice", "identify-vehs", with_("identify-vehs", data=["data.csv", "data.csv"]),
+             mentions=["data.csv"]))
+    add(Case("identify: data listed twice via ./", "identify-vehs", with_("identify-vehs", data=["data.csv", "./data.csv"]),
+             mentions=["data.csv"]))
+    add(Case("diagnose: data listed twice", "diagnose-vehs", with_("diagnose-vehs", data=["data.csv", "data.csv"]),
+             mentions=["data.csv"]))
+    add(Case("report folder is a file", "diagnose-vehs", with_("diagnose-vehs", report="data.csv"), mentions=["data.csv"]))
+    add(Case("figures folder is a file", "fpk-stationary", with_("fpk-stationary", figures="model.json"),
+             mentions=["model.json"]))
+
+    # ---- model files ----------------------------------------------------------------------
+    bad_models = {
+        "model not JSON": "{drift: 1}",
+        "model trailing garbage": json.dumps(MODEL) + "x",
+        "model nested deep": '{"drift": ' + deep(100000) + "}",
+        "model bad term": json.dumps({"drift": {"x^^2": 1}, "diffusion": {"1": 0.1}}),
+        "model negative diffusion": json.dumps({"drift": {"x": -1, "y": -0.1}, "diffusion": {"1": -0.1}}),
+        "model no diffusion": json.dumps({"drift": {"x": -1, "y": -0.1}}),
+        "model NaN coefficient": '{"drift": {"x": NaN, "y": -0.1}, "diffusion": {"1": 0.1}}',
+        "model coefficient a string": json.dumps({"drift": {"x": "1", "y": -0.1}, "diffusion": {"1": 0.1}}),
+        "model is a list": "[]",
+        "model empty": "",
+        "model huge exponent term": json.dumps({"drift": {"x^100000": 1, "y": -0.1}, "diffusion": {"1": 0.1}}),
+    }
+    for t, key in (("simulate-vehs", "model"), ("fpk-stationary", "model"), ("diagnose-vehs", "model"),
+                   ("vehs-compare", "learned")):
+        for name, text in bad_models.items():
+            add(Case(f"{name}", t, with_(t, **{key: "bad_model.json"}), files={"bad_model.json": text},
+                     mentions=["bad_model.json"]))
+        add(Case("model is a directory", t, with_(t, **{key: "mdir"}), mentions=["mdir"],
+                 setup=lambda d: os.mkdir(os.path.join(d, "mdir"))))
+        add(Case("model is missing", t, with_(t, **{key: "missing.json"}), mentions=["missing.json"]))
+
+    # ---- measurement files ----------------------------------------------------------------
+    bad_data = {
+        "data empty": "",
+        "data header only": "traj,t,x\n",
+        "data one row": csv_text([(0, 0.0, 0.1)]),
+        "data text in a number": csv_text([(0, 0.0, 0.1), (0, 0.01, "abc"), (0, 0.02, 0.2)]),
+        "data NaN": csv_text([(0, 0.0, 0.1), (0, 0.01, "nan"), (0, 0.02, 0.2)]),
+        "data inf": csv_text([(0, 0.0, 0.1), (0, 0.01, "inf"), (0, 0.02, 0.2)]),
+        "data time going back": csv_text([(0, 0.0, 0.1), (0, 0.02, 0.2), (0, 0.01, 0.3)] * 5),
+        "data no x column": "traj,t,y\n0,0,1\n0,0.01,2\n",
+        "data binary garbage": "\x00\x01\x02\xff" * 100,
+        "data missing field": "traj,t,x\n0,0.0,0.1\n0,0.01\n0,0.02,0.2\n",
+        "data npy garbage": "\x93NUMPY\x01\x00\xff\xff{'descr': '<f8', 'fortran_order': False, 'shape': (99999999999,), }",
+    }
+    for t in ("identify-vehs", "diagnose-vehs"):
+        for name, text in bad_data.items():
+            fname = "bad.npy" if "npy" in name else "bad.csv"
+            add(Case(name, t, with_(t, data=[fname]), files={fname: text}, mentions=[fname]))
+        add(Case("data is a directory", t, with_(t, data=["ddir"]), mentions=["ddir"],
+                 setup=lambda d: os.mkdir(os.path.join(d, "ddir"))))
+        add(Case("data is missing", t, with_(t, data=["missing.csv"]), mentions=["missing.csv"]))
+        add(Case("data empty list", t, with_(t, data=[]), mentions=["data"]))
+        add(Case("duplicate column x", t, with_(t, data=["dup.csv"]), mentions=["dup.csv"], owner="issue 15: readers",
+                 setup=lambda d: make_duplicate_column(d, "data.csv", "dup.csv")))
+        add(Case("UTF-8 BOM before the header: message names the BOM", t, with_(t, data=["bom.csv"]),
+                 mentions=["BOM", "byte order"], owner="issue 15: readers",
+                 setup=lambda d: make_bom(d, "data.csv", "bom.csv")))
+        add(Case("glitch sample", t, with_(t, data=["glitch.csv"]), mentions=["glitch.csv"],
+                 setup=lambda d: make_glitch(d, "data.csv", "glitch.csv")))
+
+    # ---- values that would be ignored, contradicted or out of range -------------------------
+    add(Case("keep_terms outside the library", "identify-vehs", with_("identify-vehs", keep_terms=["x^20"]),
+             mentions=["keep_terms"]))
+    add(Case("dt contradicting the time column", "identify-vehs", with_("identify-vehs", dt=0.5), mentions=["dt"]))
+    add(Case("stlsq_threshold without stlsq", "identify-vehs", with_("identify-vehs", stlsq_threshold=0.1),
+             mentions=["stlsq_threshold"]))
+    add(Case("ssr_rule with sparsity none", "identify-vehs", with_("identify-vehs", sparsity="none", ssr_rule="abs_coef"),
+             mentions=["ssr_rule"]))
+    add(Case("fpk: sor settings with the direct solver", "fpk-stationary", with_("fpk-stationary", sor={"alpha": 0.5}),
+             mentions=["sor"]))
+    add(Case("fpk: iterative settings with the direct solver", "fpk-stationary",
+             with_("fpk-stationary", iterative={"tolerance": 1e-8}), mentions=["iterative"]))
+    add(Case("folds beyond the data", "identify-vehs", with_("identify-vehs", folds=100000), mentions=["folds"]))
+    add(Case("statistics.batches beyond the samples", "simulate-vehs",
+             with_("simulate-vehs", statistics={"output": "st.json", "batches": 100000}), mentions=["batches"]))
+    add(Case("fpk auto_domain_efolds 1000", "fpk-stationary",
+             with_("fpk-stationary", auto_domain_efolds=1000), mentions=["auto_domain_efolds"]))
+    add(Case("fpk grid 7000^2 (inside the cell limit) beyond the memory limit", "fpk-stationary",
+             with_("fpk-stationary", grid={"x": 7000, "y": 7000}), mentions=["memory", "grid"]))
+    add(Case("fpk grid 1e9 cells", "fpk-stationary", with_("fpk-stationary", grid={"x": 100000, "y": 100000}),
+             mentions=["grid"]))
+    add(Case("fpk sor at 300^2 with 1e9 sweeps", "fpk-stationary",
+             with_("fpk-stationary", grid={"x": 300, "y": 300}, solver="sor", sor={"max_iterations": 1000000000}),
+             mentions=["sor", "max_iterations"]))
+    add(Case("fpk sor at 300^2 with the defaults", "fpk-stationary",
+             with_("fpk-stationary", grid={"x": 300, "y": 300}, solver="sor"), mentions=["max_iterations"]))
+    add(Case("fpk sweep all points failing", "fpk-stationary",
+             with_("fpk-stationary", sweep={"2D": [-0.03, -0.01, 3]}), mentions=["sweep", "2D"]))
+    add(Case("compare: fpk of another model", "vehs-compare", with_("vehs-compare", fpk="fpk_other.json"),
+             files={"fpk_other.json": json.dumps({"E[X^2]": 0.1, "E[Y^2]": 0.2, "E[XY]": 0.0, "model": OTHER_MODEL})},
+             mentions=["fpk_other.json"]))
+    add(Case("compare: fpk without a model", "vehs-compare", with_("vehs-compare", fpk="fpk_nomodel.json"),
+             files={"fpk_nomodel.json": json.dumps({"E[X^2]": 0.1, "E[Y^2]": 0.2, "E[XY]": 0.0})},
+             mentions=["fpk_nomodel.json"]))
+    add(Case("compare: statistics with null stderr and null value", "vehs-compare",
+             with_("vehs-compare", monte_carlo="mc.json"),
+             files={"mc.json": json.dumps({"E[X^2]": None, "E[Y^2]": 0.2, "E[XY]": 0.0, "model": MODEL})},
+             mentions=["mc.json"]))
+    for t in ("simulate-vehs",):
+        add(Case("trajectories 1e12", t, with_(t, trajectories=10 ** 12), mentions=["trajectories", "memory"]))
+        add(Case("duration 1e12", t, with_(t, duration=1e12), mentions=["duration", "memory", "samples"]))
+        add(Case("dt 0", t, with_(t, dt=0), mentions=["dt"]))
+        add(Case("dt negative", t, with_(t, dt=-0.01), mentions=["dt"]))
+    add(Case("simulate: output = drive file", "simulate-vehs",
+             with_("simulate-vehs", model="model_u.json", drive={"path": "drive.csv"}, output="drive.csv"),
+             files={"model_u.json": json.dumps({"drift": {"x": -1.0, "y": -0.1, "u": 1.0}, "diffusion": {"1": 0.01}}),
+                    "drive.csv": csv_text([(0, round(0.01 * i, 2), 0.1) for i in range(501)], "traj,t,u")},
+             mentions=["drive.csv"]))
+    add(Case("diagnose: dt contradicting the time column", "diagnose-vehs", with_("diagnose-vehs", dt=0.5),
+             mentions=["dt"]))
+    add(Case("fpk: an under-resolved grid says so", "fpk-stationary", with_("fpk-stationary", grid={"x": 40, "y": 40}),
+             mentions=["does not resolve"]))
+    add(Case("fpk: sor stopped after one sweep says it did not converge", "fpk-stationary",
+             with_("fpk-stationary", grid={"x": 60, "y": 60}, solver="sor", sor={"max_iterations": 1}),
+             mentions=["did not converge"]))
+    # ---- what must work: the valid parts of the issue's cases ------------------------------
+    add(Case("fpk sweep {2D: [-0.01, 0.03, 3]}: 2D = 0.01 solved, -0.01 failed with its reason", "fpk-stationary",
+             with_("fpk-stationary", sweep={"2D": [-0.01, 0.03, 3]}), expect="ok", check=check_sweep))
+    add(Case("diagnose: the staged report embeds its figures", "diagnose-vehs", BASE["diagnose-vehs"], expect="ok",
+             check=check_report))
+    add(Case("compare: Monte Carlo without standard errors never prints nan", "vehs-compare",
+             with_("vehs-compare", monte_carlo="mc.json"),
+             files={"mc.json": json.dumps({"E[X^2]": 0.7, "E[Y^2]": 0.2, "E[XY]": 0.0, "model": MODEL})},
+             expect="ok", check=lambda d, out, err: ["nan in the table"] if "nan" in out.lower() else []))
+    add(Case("a 245-byte output name is written", "identify-vehs", with_("identify-vehs", output="n" * 240 + ".json"),
+             expect="ok", check=lambda d, out, err: [] if os.path.exists(os.path.join(d, "n" * 240 + ".json"))
+             else ["no output"]))
+    add(Case("identify: glitches dropped on request", "identify-vehs", with_("identify-vehs", data=["glitch.csv"],
+             glitches="drop"), setup=lambda d: make_glitch(d, "data.csv", "glitch.csv"), expect="ok",
+             check=lambda d, out, err: [] if "warning: dropped 1 isolated glitch sample" in err else ["no report of the drop"]))
+    # ---- signals during work or writes leave nothing behind ----------------------------------
+    add(Case("SIGINT during an fpk solve", "fpk-stationary",
+             with_("fpk-stationary", grid={"x": 1200, "y": 1200}, figures="figs"), expect=signal.SIGINT))
+    add(Case("SIGTERM during a simulation writing a large file", "simulate-vehs",
+             with_("simulate-vehs", trajectories=64, duration=2000, dt=0.01, summary="sum.json"),
+             expect=signal.SIGTERM, signal_after=2.0))
+    add(Case("SIGINT during a diagnosis with a report", "diagnose-vehs",
+             with_("diagnose-vehs", replicates=20, suspects=True), expect=signal.SIGINT, signal_after=2.0))
+    return out
+
+
+def check_report(d, out, err):
+    if shutil.which("gnuplot") is None:
+        return []
+    with open(os.path.join(d, "diag_report", "index.html")) as f:
+        html = f.read()
+    problems = [] if "data:image/svg+xml" in html else ["no figure embedded in index.html"]
+    if "figure not rendered" in html:
+        problems.append("index.html says a figure was not rendered")
+    leftovers = [n for n in os.listdir(d) + os.listdir(os.path.join(d, "diag_report")) if n.startswith(".vehs")]
+    return problems + (["left: " + ", ".join(leftovers)] if leftovers else [])
+
+
+def check_sweep(d, out, err):
+    problems = []
+    with open(os.path.join(d, "fpk.sweep.csv")) as f:
+        rows = [r.split(",") for r in f.read().splitlines()]
+    ok = {r[0]: r[-1] for r in rows[1:]}
+    if ok != {"-0.01": "0", "0.01": "1", "0.03": "1"}:
+        problems.append(f"sweep rows ok = {ok}")
+    for root, _dirs, files in os.walk(d):
+        for name in files:
+            with open(os.path.join(root, name), "rb") as f:
+                if b"nan" in f.read().lower():
+                    problems.append(f"{name} holds nan")
+    if "2D = -0.01 failed: " not in err or "negative" not in err:
+        problems.append("the failed point's reason is not reported")
+    return problems
+
+
+def make_duplicate_column(d, src, dst):  # traj,t,x,x: the second x differs
+    with open(os.path.join(d, src)) as f:
+        lines = f.read().splitlines()
+    out = [lines[0] + ",x"] + [ln + ",0.25" for ln in lines[1:]]
+    with open(os.path.join(d, dst), "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
+def make_bom(d, src, dst):
+    with open(os.path.join(d, src), encoding="utf-8") as f:
+        text = f.read()
+    with open(os.path.join(d, dst), "w", encoding="utf-8") as f:
+        f.write("\ufeff" + text)
+
+
+def make_glitch(d, src, dst):
+    with open(os.path.join(d, src)) as f:
+        lines = f.read().splitlines()
+    k = len(lines) // 3 + 777  # inside a record (its first and last samples are not tested)
+    parts = lines[k].split(",")
+    parts[-1] = "0.5" if abs(float(parts[-1]) - 0.5) > 0.3 else "-0.9"
+    lines[k] = ",".join(parts)
+    with open(os.path.join(d, dst), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def snapshot(d):
+    out = {}
+    for root, dirs, files in os.walk(d):
+        for name in dirs + files:
+            p = os.path.join(root, name)
+            st = os.lstat(p)
+            digest = ""
+            if os.path.isfile(p) and not os.path.islink(p):
+                with open(p, "rb") as f:
+                    digest = hashlib.sha1(f.read()).hexdigest()
+            out[os.path.relpath(p, d)] = (st.st_mode, st.st_ino, st.st_size, digest,
+                                          os.readlink(p) if os.path.islink(p) else "")
+    return out
+
+
+def run_case(case, bindir, fixtures, workdir, timeout):
+    d = tempfile.mkdtemp(prefix="case_", dir=workdir)
+    for name in os.listdir(fixtures):
+        shutil.copy(os.path.join(fixtures, name), d)
+    for name, text in case.files.items():
+        with open(os.path.join(d, name), "w", encoding="utf-8", errors="surrogateescape") as f:
+            f.write(text)
+    if case.config_name:
+        with open(os.path.join(d, case.config_name), "w", encoding="utf-8") as f:
+            f.write(case.raw if case.raw is not None else json.dumps(case.config))
+    if case.setup:
+        case.setup(d)
+    before = snapshot(d)
+    cmd = [os.path.join(bindir, case.tool), "-q"] + ([case.config_name] if case.config_name else []) + case.args
+    t0 = time.time()
+    out = ""
+    try:
+        p = subprocess.Popen(cmd, cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             env=dict(os.environ, OMP_NUM_THREADS="1"))
+        if isinstance(case.expect, int):
+            time.sleep(case.signal_after)
+            p.send_signal(case.expect)
+        o, e = p.communicate(timeout=timeout)
+        rc, err, out = p.returncode, e.decode("utf-8", "replace"), o.decode("utf-8", "replace")
+    except subprocess.TimeoutExpired:
+        p.kill()
+        p.communicate()
+        rc, err = "timeout", ""
+    seconds = time.time() - t0
+    problems = []
+    if "Sanitizer" in err or "runtime error:" in err:  # a sanitized build (.ci/run's ASan step)
+        problems.append("sanitizer report: " + next(ln for ln in err.splitlines() if "Sanitizer" in ln or "runtime error" in ln))
+    if case.expect == "ok" or isinstance(case.expect, int):
+        if rc == "timeout":
+            problems.append(f"no answer within {timeout} s (hang)")
+        elif case.expect == "ok" and rc != 0:
+            problems.append(f"exit status {rc}: {err.strip()[:200]}")
+        elif isinstance(case.expect, int) and rc != 128 + case.expect:
+            problems.append(f"exit status {rc}, not {128 + case.expect}")
+        if case.check and rc != "timeout":
+            problems += case.check(d, out, err)
+        if isinstance(case.expect, int):
+            after = snapshot(d)
+            changed = sorted(k for k in set(before) | set(after) if before.get(k) != after.get(k))
+            if changed:
+                problems.append("files left behind: " + ", ".join(changed[:6]))
+        shutil.rmtree(d, ignore_errors=True)
+        return problems, err.strip()[:300], seconds
+    if rc == "timeout":
+        problems.append(f"no answer within {timeout} s (hang)")
+    elif rc == 0:
+        problems.append("exit status 0")
+    elif rc < 0 or rc >= 128:
+        problems.append(f"killed by a signal / crashed (status {rc})")
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    if rc != "timeout" and len(lines) != 1:
+        problems.append(f"{len(lines)} lines on stderr")
+    if case.mentions and rc != "timeout" and not any(m in err for m in case.mentions):
+        problems.append("stderr names none of " + ", ".join(case.mentions))
+    after = snapshot(d)
+    changed = sorted(k for k in set(before) | set(after) if before.get(k) != after.get(k))
+    if changed:
+        problems.append("files changed: " + ", ".join(changed[:6]))
+    for root, _dirs, _files in os.walk(d):  # the unwritable folders of some cases
+        os.chmod(root, 0o755)
+    shutil.rmtree(d, ignore_errors=True)
+    return problems, err.strip()[:300], seconds
+
+
+def make_fixtures(bindir, d):
+    with open(os.path.join(d, "model.json"), "w") as f:
+        json.dump(MODEL, f)
+    cfg = {"model": "model.json", "trajectories": 4, "duration": 60, "dt": 0.01, "seed": 5,
+           "x0": {"uniform": [-1.0, 1.0]}, "record_velocity": False, "output": "data.csv"}
+    with open(os.path.join(d, "gen.json"), "w") as f:
+        json.dump(cfg, f)
+    subprocess.run([os.path.join(bindir, "simulate-vehs"), "-q", "gen.json"], cwd=d, check=True)
+    os.remove(os.path.join(d, "gen.json"))
+
+
+def check_bases(bindir, fixtures, workdir, timeout):
+    bad = []
+    for t, cfg in BASE.items():
+        d = tempfile.mkdtemp(prefix="base_", dir=workdir)
+        for name in os.listdir(fixtures):
+            shutil.copy(os.path.join(fixtures, name), d)
+        with open(os.path.join(d, "cfg.json"), "w") as f:
+            json.dump(cfg, f)
+        try:
+            p = subprocess.run([os.path.join(bindir, t), "-q", "cfg.json"], cwd=d, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE, timeout=timeout * 3)
+            if p.returncode != 0:
+                bad.append(f"{t}: base config fails ({p.returncode}): {p.stderr.decode()[:300]}")
+        except subprocess.TimeoutExpired:
+            bad.append(f"{t}: base config takes longer than {timeout * 3} s")
+        shutil.rmtree(d, ignore_errors=True)
+    return bad
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("bindir")
+    ap.add_argument("--only", default="")
+    ap.add_argument("--list", action="store_true")
+    ap.add_argument("--timeout", type=float, default=20.0)
+    ap.add_argument("--verbose", action="store_true")
+    a = ap.parse_args()
+    a.bindir = os.path.abspath(a.bindir)
+    all_cases = [c for c in cases() if a.only in f"{c.tool}: {c.name}"]
+    if a.list:
+        for c in all_cases:
+            print(f"{c.tool}: {c.name}")
+        print(len(all_cases), "cases")
+        return 0
+    workdir = tempfile.mkdtemp(prefix="vehs_bad_inputs_")
+    fixtures = os.path.join(workdir, "fixtures")
+    os.mkdir(fixtures)
+    make_fixtures(a.bindir, fixtures)
+    failures = check_bases(a.bindir, fixtures, workdir, a.timeout)
+    for f in failures:
+        print("FAIL", f)
+    t0 = time.time()
+    slowest = (0.0, "")
+    for c in all_cases:
+        problems, err, seconds = run_case(c, a.bindir, fixtures, workdir, a.timeout)
+        slowest = max(slowest, (seconds, f"{c.tool}: {c.name}"))
+        if problems and c.owner:
+            print(f"KNOWN ({c.owner}) {c.tool}: {c.name}: {'; '.join(problems)}\n     stderr: {err}")
+        elif problems:
+            failures.append(c.name)
+            print(f"FAIL {c.tool}: {c.name}: {'; '.join(problems)}\n     stderr: {err}")
+        elif a.verbose:
+            print(f"ok   {c.tool}: {c.name} ({seconds:.2f} s): {err}")
+    shutil.rmtree(workdir, ignore_errors=True)
+    print(f"{len(all_cases)} bad inputs, {len(failures)} failures, {time.time() - t0:.1f} s "
+          f"(slowest {slowest[0]:.1f} s: {slowest[1]})")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
