@@ -1,5 +1,6 @@
 #include "tools/app.hpp"
 
+#include <algorithm>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -12,6 +13,8 @@
 
 namespace vehs::tools {
 
+const char* library_version() { return "vehs " VEHS_VERSION; }
+
 int run_app(int argc, char** argv, const ConfigSchema& schema,
             const std::function<int(Config&, const AppOptions&)>& body) {
   CLI::App app{schema.summary, schema.tool};
@@ -23,12 +26,23 @@ int run_app(int argc, char** argv, const ConfigSchema& schema,
   app.add_option("--threads", options.threads, "threads for parallel work (default: all cores)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--quiet,-q", options.quiet, "no progress reports on stderr");
+  app.set_version_flag("--version", schema.tool + " (" + library_version() + ")");
+  // a boolean key fail_on_<x> is also the flag --fail-on-<x>
+  std::vector<std::string> flag_keys;
+  for (const auto& k : schema.keys)
+    if (k.name.rfind("fail_on_", 0) == 0) flag_keys.push_back(k.name);
+  std::vector<char> flag_set(flag_keys.size(), 0);  // (vector<bool> has no element references)
+  for (std::size_t i = 0; i < flag_keys.size(); ++i) {
+    std::string flag = "--" + flag_keys[i];
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    app.add_flag_callback(flag, [&flag_set, i] { flag_set[i] = 1; }, "sets the config key " + flag_keys[i] + " (see below)");
+  }
   app.footer(schema.help_text());
   app.get_formatter()->column_width(28);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     std::cerr << schema.tool << ": " << e.what() << " (see --help)\n";
     return 2;
   }
@@ -37,6 +51,8 @@ int run_app(int argc, char** argv, const ConfigSchema& schema,
     set_threads(options.threads);
     Config config = Config::load(config_path, schema);
     for (const auto& o : overrides) config.set_override(o, schema);
+    for (std::size_t i = 0; i < flag_keys.size(); ++i)
+      if (flag_set[i]) config.set_override(flag_keys[i] + "=true", schema);
     return body(config, options);
   } catch (const Error& e) {
     std::cerr << schema.tool << ": error: " << e.what() << "\n";
