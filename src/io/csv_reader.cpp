@@ -15,13 +15,6 @@ namespace vehs::io_detail {
 
 namespace {
 
-struct FileCloser {
-  void operator()(std::FILE* f) const {
-    if (f) std::fclose(f);
-  }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
-
 std::string_view trim(std::string_view f) {
   while (!f.empty() && (f.front() == ' ' || f.front() == '\t')) f.remove_prefix(1);
   while (!f.empty() && (f.back() == ' ' || f.back() == '\t' || f.back() == '\r')) f.remove_suffix(1);
@@ -148,8 +141,7 @@ class CsvParser {
 }  // namespace
 
 Dataset read_csv(const std::string& path, const ReadOptions& o, ReadSummary& summary) {
-  File file(std::fopen(path.c_str(), "rb"));
-  if (!file) throw Error(path + ": cannot open measurement file");
+  const File file = open_measurement_file(path);
   CsvParser parser(path, o, summary, count_lines(file.get()));
   std::vector<char> buf(1 << 22);
   std::string carry;  // an incomplete line from the previous chunk

@@ -12,13 +12,6 @@ namespace vehs::io_detail {
 
 namespace {
 
-struct FileCloser {
-  void operator()(std::FILE* f) const {
-    if (f) std::fclose(f);
-  }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
-
 struct NpyField {
   std::string name;
   char kind = 'f';  // 'f' float, 'i' signed int
@@ -160,8 +153,7 @@ std::string read_header(std::FILE* f, const std::string& path) {
 }  // namespace
 
 Dataset read_npy(const std::string& path, const ReadOptions& o, ReadSummary& summary) {
-  File file(std::fopen(path.c_str(), "rb"));
-  if (!file) throw Error(path + ": cannot open measurement file");
+  const File file = open_measurement_file(path);
   const NpyLayout layout = parse_header(read_header(file.get(), path), path, o);
   std::vector<std::string> names;
   std::size_t row_size = 0;

@@ -1,14 +1,31 @@
 #pragma once
 // Internal: one reader per file format, each feeding io_detail::RecordBuilder.
+#include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "record_builder.hpp"
 
 #include "vehs/core/dataset.hpp"
+#include "vehs/core/error.hpp"
 #include "vehs/io/measurements.hpp"
 
 namespace vehs::io_detail {
+
+struct FileCloser {
+  void operator()(std::FILE* f) const {
+    if (f) std::fclose(f);
+  }
+};
+using File = std::unique_ptr<std::FILE, FileCloser>;
+
+/// Opens a measurement file for binary reading; throws vehs::Error naming it.
+inline File open_measurement_file(const std::string& path) {
+  File f(std::fopen(path.c_str(), "rb"));
+  if (!f) throw Error(path + ": cannot open measurement file");
+  return f;
+}
 
 Dataset read_csv(const std::string& path, const ReadOptions& o, ReadSummary& summary);
 Dataset read_npy(const std::string& path, const ReadOptions& o, ReadSummary& summary);

@@ -90,10 +90,6 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
     auto& s = report.section("Verdict");
     s.paragraphs.push_back("Model " + model_label + ": " + (r.adequate() ? "ADEQUATE" : "INADEQUATE") + ", score " +
                            g(r.score) + ". " + next_step(r));
-    if (!versions.empty()) {
-      s.paragraphs.push_back("The report of every model version diagnosed on these data:");
-      s.links = versions;
-    }
     std::ostringstream p;
     p << "Score " << g(r.score) << " (an adequate model scores about " << g(r.score_expected_adequate, 2)
       << " on these components; lower is better; comparable between models fitted to the same data). "
@@ -120,13 +116,17 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
     }
     s.tables.push_back(t);
     for (const auto& w : r.warnings) s.paragraphs.push_back("Warning: " + w);
+    if (!versions.empty()) {  // (the links follow the paragraphs)
+      s.paragraphs.push_back("The report of every model version diagnosed on these data:");
+      s.links = versions;
+    }
     Table bars({"minus_log10_p", "size"}, "component");
     for (const auto& c : r.components)
       if (c.test.available)
         bars.add_row(label_text(c.name), {std::min(-std::log10(std::max(c.test.p_value, 1e-300)), 300.0), c.test.excess});
     bars.write_csv(report.folder() + "/components.csv");
     std::ostringstream body;
-    body << "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset ylabel '-log10 p'\nset logscale y\n"
+    body << "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset key below horizontal\nset ylabel '-log10 p'\nset logscale y\n"
          << "set yrange [0.01:*]\nset xtics rotate by -30\nset title 'components of the verdict'\n"
          << "plot 'components.csv' skip 1 using 0:($2 > 0.01 ? $2 : 0.01):xtic(1) with boxes lc rgb '#6baed6' "
          << "notitle, " << -std::log10(std::max(r.threshold, 1e-300))
@@ -280,7 +280,7 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
                       "Stationary quantities (power and wells components): paired z of data minus model twins per "
                       "quantity (bars, clipped at ±20); dashed: ±3. A mean power (E[v^2]) or well occupancy the model "
                       "does not reproduce stands out here.",
-                      "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset ylabel 'z (data - twins)'\n"
+                      "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset key below horizontal\nset ylabel 'z (data - twins)'\n"
                       "set xtics rotate by -30\nset title 'stationary quantities'\nplot 'quantities.csv' skip 1 using "
                       "0:2:xtic(1) with boxes lc rgb '#fd8d3c' notitle, 3 with lines dt 2 lc rgb 'black' title '|z| = 3', "
                       "-3 with lines dt 2 lc rgb 'black' notitle, 0 with lines lc rgb 'gray' notitle");
@@ -341,7 +341,7 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
       report.add_figure(s, "suspects",
                         "Held-out z of every tested effect (bars); dashed: the significance threshold. Bars below "
                         "zero: the effect predicts held-out data worse than the model without it.",
-                        "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset ylabel 'held-out z'\n"
+                        "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset key below horizontal\nset ylabel 'held-out z'\n"
                         "set xtics rotate by -30\nset title 'suspects'\nplot 'suspects.csv' skip 1 using 0:2:xtic(1) "
                         "with boxes lc rgb '#6baed6' notitle, 3 with lines dt 2 lc rgb 'black' title 'threshold', 0 "
                         "with lines lc rgb 'gray' notitle");

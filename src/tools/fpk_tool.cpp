@@ -243,7 +243,11 @@ int run_fpk(Config& cfg, const AppOptions& app) {
   if (!app.quiet)
     std::cerr << "fpk-stationary: E[X^2] = " << res.moments.exx << ", E[Y^2] = " << res.moments.eyy
               << ", boundary mass " << res.boundary_mass << " on " << res.grid.x.n << "x"
-              << res.grid.y.n << " cells (" << res.summary.solve_seconds << " s) -> " << output << "\n"
+              << res.grid.y.n << " cells"
+              << (res.refinements > 0 ? " (refined " + std::to_string(res.refinements) +
+                                            " time(s): the requested grid did not resolve the model)"
+                                      : std::string())
+              << " (" << res.summary.solve_seconds << " s) -> " << output << "\n"
               << (power.available ? "fpk-stationary: mean power " + vehs::detail::format_number(power.watts, 4) + " W (" +
                                         power.formula + ")\n"
                                   : std::string());
