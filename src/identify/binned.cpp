@@ -76,7 +76,10 @@ BinnedEstimates binned_estimates(const Dataset& data, const Model& model, int bi
     }
   }
   const Range rx = quantile_range(xs), rv = quantile_range(vs);
-  Sums dx(bins), dv(bins), dd(bins), qv(bins);  // qv: a22(x, v̂) per v̂ bin (the Itô correction)
+  // qv: rows and a22(x, v̂) per v̂ bin, with one bin of the same width beyond each end (the Itô
+  // correction needs the density at the outer edges too)
+  Sums dx(bins), dv(bins), dd(bins), qv(bins + 2);
+  const double wv = (rv.hi - rv.lo) / bins;
   for (const auto& r : data.records) {
     const double* x = data.x_of(r);
     const double* u = data.u_of(r);
@@ -91,21 +94,20 @@ BinnedEstimates binned_estimates(const Dataset& data, const Model& model, int bi
         const double res = a - fx - fy;
         dd.add(rx.bin(x[i], bins), (central ? 1.5 : 1.0) * h * res * res);
       }
-      if (v >= rv.lo && v <= rv.hi) {
-        dv.add(rv.bin(v, bins), a - fx);
-        qv.add(rv.bin(v, bins), model.a22(x[i], v));
-      }
+      if (v >= rv.lo && v <= rv.hi) dv.add(rv.bin(v, bins), a - fx);
+      if (v >= rv.lo - wv && v < rv.hi + wv)
+        qv.add(std::clamp(static_cast<int>(std::floor((v - rv.lo) / wv)) + 1, 0, bins + 1), model.a22(x[i], v));
     }
   }
   BinnedEstimates out{finish(dx, rx, bins), finish(dv, rv, bins), finish(dd, rx, bins)};
   if (central) {
     // â's noise covaries with v̂'s (a22/2 per unit of the indicator's v-derivative, Stein's
     // lemma as in ULI): E[â | v̂ ∈ [lo, hi)] = E[b2 | bin] + ½ (a22·p)(lo) − ½ (a22·p)(hi), over P(bin)
-    double total = 0.0;
-    for (double n : dv.n) total += n;
-    const double w = (rv.hi - rv.lo) / bins;
-    auto density = [&](int b) { return b < 0 || b >= bins ? 0.0 : dv.n[b] / (total * w); };
-    auto a22 = [&](int b) { return b < 0 || b >= bins || qv.n[b] == 0 ? 0.0 : qv.s[b] / qv.n[b]; };
+    double total = 0.0;  // rows of the whole data behind the densities
+    for (const auto& r : data.records) total += static_cast<double>(r.size > 2 * static_cast<std::size_t>(k) ? r.size - 2 * static_cast<std::size_t>(k) : 0);
+    // (bin b of dv is bin b + 1 of qv)
+    auto density = [&](int b) { return qv.n[b + 1] / (total * wv); };
+    auto a22 = [&](int b) { return qv.n[b + 1] == 0 ? 0.0 : qv.s[b + 1] / qv.n[b + 1]; };
     auto edge = [&](int lo_bin) {  // (a22·p) at the edge between bins lo_bin and lo_bin + 1
       return 0.5 * (a22(lo_bin) * density(lo_bin) + a22(lo_bin + 1) * density(lo_bin + 1));
     };

@@ -53,7 +53,7 @@ std::string band_plot(const std::string& csv, const std::string& title, const st
   os << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel '" << ylabel << "'\n"
      << "set key below horizontal\nset grid\n";  // the legend under the plot, off the data
   if (logx) os << "set logscale x\n";
-  if (logy) os << "set logscale y\n";
+  if (logy) os << "set logscale y\nset format y '%g'\n";
   const std::string lo = logy ? "($4-2*$5 > 0 ? $4-2*$5 : $4/10)" : "($4-2*$5)";
   os << "plot '" << csv << "' skip 1 using 1:" << lo << ":($4+2*$5) with filledcurves fc rgb '#c6dbef' "
      << "title 'model twins ± 2 se', \\\n"
