@@ -47,13 +47,21 @@ void RecordBuilder::row(const Row& r) {
     if (!(step > 0.0))
       throw Error(where(r.line) + ": time " + fmt(r.t) + " does not increase (previous " +
                   fmt(last_t_) + ")");
-    if (ref_dt_ == 0.0) ref_dt_ = o_.dt > 0.0 ? o_.dt : step;
+    if (ref_dt_ == 0.0) {
+      if (o_.dt > 0.0 && std::abs(step - o_.dt) > o_.jitter_tolerance * o_.dt)
+        throw Error(where(r.line) + ": the time column is sampled at " + fmt(step) + " but dt = " + fmt(o_.dt) +
+                    " is given (remove dt to use the time column, or resample the data)");
+      ref_dt_ = o_.dt > 0.0 ? o_.dt : step;
+    }
     if (step > kGapSteps * ref_dt_) {
       if (o_.on_gap == GapPolicy::Fail)
         throw Error(where(r.line) + ": a gap in the time column: step " + fmt(step) + " after " +
                     fmt(last_t_) + " is " + fmt(step / ref_dt_) +
                     " sampling intervals (on_gap \"fail\"; \"split\" splits the record there)");
       ++summary_.gaps;
+      if (first_problem_.empty())
+        first_problem_ = std::string(line_word_) + " " + std::to_string(r.line) + ": a gap of " + fmt(step / ref_dt_) +
+                         " sampling intervals";
       close(true);
     }
   }
@@ -74,6 +82,9 @@ void RecordBuilder::missing(const Row& r, const char* what) {
     throw Error(where(r.line) + ": column '" + what +
                 "' is empty, NaN or infinite (on_gap \"fail\"; \"split\" splits the record there)");
   ++summary_.missing_rows;
+  if (first_problem_.empty())
+    first_problem_ = std::string(line_word_) + " " + std::to_string(r.line) + ": column '" + what +
+                     "' is empty, NaN or infinite";
   if (!in_missing_run_) {
     ++summary_.missing_runs;
     in_missing_run_ = true;
@@ -144,7 +155,11 @@ void RecordBuilder::finish() {
   close(false);
   if (d_.records.empty())
     throw Error(source_ + ": no usable data rows" +
-                (summary_.missing_rows > 0 ? " (" + std::to_string(summary_.missing_rows) + " rows with missing values)" : ""));
+                (first_problem_.empty()
+                     ? std::string()
+                     : ": " + first_problem_ + " (on_gap \"split\" splits records at gaps and missing values; " +
+                           std::to_string(summary_.dropped_pieces) + " piece(s) shorter than " +
+                           std::to_string(o_.min_samples) + " samples were dropped)"));
 }
 
 }  // namespace vehs::io_detail

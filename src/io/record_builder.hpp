@@ -55,6 +55,7 @@ class RecordBuilder {
   double min_step_ = 0.0, max_step_ = 0.0;
   std::size_t min_line_ = 0, max_line_ = 0;
   std::set<long long> seen_;
+  std::string first_problem_;  ///< the first gap or missing value, for an empty result's error
 };
 
 }  // namespace vehs::io_detail

@@ -99,7 +99,7 @@ const ConfigSchema& diagnose_schema() {
           {"parameter_draws", "integer", "Refits behind the parameter uncertainty.", "8"},
           {"parameter_fit_samples", "number", "Samples of each refit (the covariance is rescaled to the data size).", "2e6"},
           {"fpk", "bool", "Solve the model's stationary Fokker-Planck equation as a reference curve.", "true"},
-          {"fpk_cells", "integer", "FPK cells per axis.", "160"},
+          {"fpk_cells", "integer", "FPK cells per axis (doubled, up to 800, when they do not resolve the model; the report says so, and a reference that cannot be solved is a warning).", "160"},
           {"check_model_sampling", "bool",
            "Error when the model file says it was identified from data sampled at another interval.", "true"},
           {"fail_on_inadequate", "bool",

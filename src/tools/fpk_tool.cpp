@@ -38,7 +38,10 @@ ConfigSchema make_schema() {
       {"grid", "object", "{\"x\": [min, max, n] or n, \"y\": [min, max, n] or n}. An axis given as a "
                          "number n (or omitted) gets an automatic range from the potential and the "
                          "noise, widened until at most boundary_mass_tolerance of the mass is in its "
-                         "edge cells; a given range that holds more is an error.",
+                         "edge cells; a given range that holds more is an error. Cells that do not "
+                         "resolve the model (an undershooting density, or boundary mass that does not "
+                         "fall as the domain widens) are doubled on automatic axes up to 800 per "
+                         "axis (grid.refinements in the output), else the error names the cells needed.",
        "{\"x\": 400, \"y\": 400}"},
       {"scheme", "string", "flux: conservative finite volumes, 4th-order x-flux, 2nd-order y "
                            "(default; mass conserved exactly, L1 error 1.3e-4 at 400x400 on the exact "
