@@ -85,3 +85,28 @@ TEST_CASE("the Silverbox data in volts get finite standard errors", "[identify][
   CHECK(k1 > 0.5 * std::pow(2 * M_PI * 60, 2));
   CHECK(k1 < 2.0 * std::pow(2 * M_PI * 60, 2));
 }
+
+TEST_CASE("a dynamic effect's parameters carry their units: impact stops in m and non-dimensional", "[identify][units][dynamic]") {
+  vehs::Model truth = vehs_test::hidden_effect_potential("bistable");
+  vehs::Effect stop;
+  stop.id = vehs::EffectId::ImpactStop;
+  stop.params = {{"k_stop", 50.0}, {"gap", 1.3}, {"gap_neg", 1.25}};
+  vehs::add_effect(truth, stop, "truth");
+  const vehs::Dataset nd = vehs_test::simulate_hidden(truth, 31, 4, 30000);
+  const auto o = vehs_test::baseline_options({vehs::EffectId::ImpactStop});
+  const double L = 2e-3, T = 0.05;  // data in m and s
+  const auto a = vehs::identify::identify(nd, o).model;
+  const auto m = vehs::identify::identify(in_units(nd, L, T), o).model;
+  REQUIRE(a.effects.size() == 1);
+  REQUIRE(m.effects.size() == 1);
+  const vehs::Effect& ea = a.effects[0];
+  const vehs::Effect& em = m.effects[0];
+  // equivariant up to rounding (the fit runs on data scaled by 2 in x and 0.5 in time)
+  for (const char* p : {"gap", "gap_neg"}) {
+    CAPTURE(p);
+    CHECK(std::abs(em.param(p) / L - ea.param(p)) < 1e-4 * ea.stderr_.at(p));
+    CHECK(em.stderr_.at(p) / L == Approx(ea.stderr_.at(p)).epsilon(1e-4));
+  }
+  CHECK(std::abs(em.param("k_stop") * T * T - ea.param("k_stop")) < 1e-4 * ea.stderr_.at("k_stop"));
+  for (const auto& [n, se] : m.drift_stderr) CHECK(std::isfinite(se));
+}
