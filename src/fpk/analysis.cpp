@@ -267,10 +267,12 @@ StationaryResult solve_on(const FpkModel& model, const GridRequest& request, Gri
     res.auto_domain = request.auto_x || request.auto_y;
     res.domain_enlargements = attempt;
     const std::string cells = std::to_string(grid.x.n) + "x" + std::to_string(grid.y.n) + " cells";
-    if (res.summary.negative_mass < -kMaxUndershoot)
-      throw Unresolved{"the solution undershoots (negative density of total mass " + num(res.summary.negative_mass) +
-                       " on " + cells + ")"};
-    if (std::abs(res.boundary_mass) <= tol) return res;
+    if (std::abs(res.boundary_mass) <= tol) {
+      if (res.summary.negative_mass < -kMaxUndershoot)
+        throw Unresolved{"the solution undershoots (negative density of total mass " +
+                         num(res.summary.negative_mass) + " on " + cells + ")"};
+      return res;
+    }
     const double mx = std::abs(res.boundary_mass_x), my = std::abs(res.boundary_mass_y);
     const bool bad_x = mx > 0.5 * tol || !(my > 0.5 * tol);
     const bool bad_y = my > 0.5 * tol || !(mx > 0.5 * tol);

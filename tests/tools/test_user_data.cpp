@@ -58,7 +58,8 @@ TEST_CASE("identify-vehs on a logger CSV in mm and s: units, covariance, finite 
       << R"(", "columns": {"t": "time_s", "x": "disp_mm"}, "units": {"length": "mm", "time": "s"}, )"
       // the true terms (one record of 1000 time units does not separate y from x^2*y reliably;
       // this test is about units and reading, not selection)
-      << R"("drift_library": ["x", "x^3", "x^5", "x^7", "x^9", "y"], "diffusion_library": ["1", "x^2"]})";
+      << R"("drift_library": ["x", "x^3", "x^5", "x^7", "x^9", "y"], "diffusion_library": ["1", "x^2"], )"
+      << R"("figures": ")" << (dir / "figures").string() << R"("})";
   const std::string cmd = (kBinary / "identify-vehs").string() + " " + (dir / "identify.json").string() + " > " +
                           (dir / "stdout.txt").string() + " 2> " + (dir / "stderr.txt").string();
   REQUIRE(std::system(cmd.c_str()) == 0);
@@ -67,6 +68,12 @@ TEST_CASE("identify-vehs on a logger CSV in mm and s: units, covariance, finite 
   CHECK(err.find("1 time gap(s) and 1 run(s) of missing values") != std::string::npos);
   const vehs::ModelFile f = vehs::read_model_file((dir / "model.json").string());
   CHECK(f.sections["units"]["length"] == "mm");
+  // the figure of the fit: axes in the data's units, the model's band and the binned estimates
+  const std::string svg = slurp(dir / "figures" / "identify_fit.svg");
+  CHECK(svg.find("x [mm]") != std::string::npos);
+  CHECK(svg.find("a22 [mm^2/s^3]") != std::string::npos);
+  CHECK(svg.find("model, 95 % band") != std::string::npos);
+  CHECK(fs::file_size(dir / "figures" / "identify_fit_km_x.csv") > 200);
   CHECK(f.sections["data"]["reading"]["gaps_split"] == 1);
   CHECK(f.sections["data"]["reading"]["missing_runs_split"] == 1);
   CHECK(f.sections["data"]["records"] == 3);
