@@ -21,7 +21,7 @@
 //   as counter, so an ensemble is bit-identical whatever the thread count.
 // * Finite-difference grids are cell-centred: n cells over [min, max], centre of cell i at
 //   min + (i + ½)·h, h = (max − min)/n. Densities integrate to 1 with the midpoint rule.
-// * Term names follow contracts.md §2: "1", "x", "x^3", "y", "x^2*y", "y^3", "sign(y)",
+// * Term names follow docs/model-file.md: "1", "x", "x^3", "y", "x^2*y", "y^3", "sign(y)",
 //   "y*|y|", "u". sign(0) = 0.
 //
 // Tolerances that are part of the contract:
@@ -29,7 +29,7 @@ namespace vehs::conventions {
 /// Relative deviation of a time step from its record's interval allowed by default: logged
 /// stamps rounded to 6 decimals (3e-4 at 300 Hz), float32 stamps, a software clock jittering by
 /// ±0.2 ms at 300 Hz (steps up to 12 % off); a gap is a step of more than 1.5 intervals. The
-/// readers' ReadOptions::jitter_tolerance (a warning above ReadOptions::jitter_warning, 1e-4).
+/// readers' ReadOptions::jitter_tolerance (docs/measurements.md) (a warning above ReadOptions::jitter_warning, 1e-4).
 inline constexpr double sampling_jitter_tolerance = 0.15;
 /// Relative difference of the intervals of records that must share one (Dataset::common_dt,
 /// a config's dt against the files'): their mean steps, each averaged over a whole record.

@@ -132,7 +132,7 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
     if (ds.scores) {
       bG += Gsub;
       if (pS > 0) {
-        gram::add_AtB(Phi.data(), kB, rr.data(), kB, m, pS, 1, bd.data(), pS, false);
+        detail::add_AtB(Phi.data(), kB, rr.data(), kB, m, pS, 1, bd.data(), pS, false);
         if (ito) add_AtB(Dv, Psi, m, Kv, P, bW);
         if (noise) {
           // per unit s²: (1/2h²)[∂_vφ (∂_vφᵀc) + ½(φ ∂²_vφᵀc + ∂²_vφ φᵀc)] + (2/h²) ∂_xφ

@@ -81,7 +81,7 @@ void run_spans(const std::vector<Span>& spans, Make make, Work work, Reduce redu
 /// C += Aᵀ B on the first m rows of column-major blocks (lower: only i ≥ j, A == B).
 inline void add_AtB(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, int m, int na, int nb, Eigen::MatrixXd& C,
                     bool lower = false) {
-  gram::add_AtB(A.data(), A.outerStride(), B.data(), B.outerStride(), m, na, nb, C.data(),
+  detail::add_AtB(A.data(), A.outerStride(), B.data(), B.outerStride(), m, na, nb, C.data(),
                    C.outerStride(), lower);
 }
 

@@ -22,29 +22,17 @@ double variance(const double* v, std::size_t n) {
 }
 
 void check_data(const Structure& st, const Dataset& data, const std::string& where) {
-  if (data.records.empty()) throw Error(where + ": no records");
-  for (const auto& r : data.records) {
-    if (r.size < 2)
-      throw Error(where + ": record " + std::to_string(r.id) + " of " + r.source + " has " +
-                  std::to_string(r.size) + " sample(s); the likelihood needs at least 2");
-    const double* x = data.x_of(r);
-    for (std::size_t k = 0; k < r.size; ++k)
-      if (!std::isfinite(x[k]))
-        throw Error(where + ": " + r.source + " record " + std::to_string(r.id) + " sample " +
-                    std::to_string(k) + ": x is not finite");
-  }
-  if (st.drive) {
-    if (!data.has_u()) throw Error(where + ": the model has a drive term 'u' but the data have no input column");
-    if (data.u.size() != data.x.size())
-      throw Error(where + ": the input has " + std::to_string(data.u.size()) +
-                  " samples for " + std::to_string(data.x.size()) + " samples of x");
-    for (const auto& r : data.records) {
-      const double* u = data.u_of(r);
-      for (std::size_t k = 0; k < r.size; ++k)
-        if (!std::isfinite(u[k]))
-          throw Error(where + ": " + r.source + " record " + std::to_string(r.id) + " sample " +
-                      std::to_string(k) + ": the input u is not finite");
-    }
+  if (data.has_u() && data.u.size() != data.x.size())
+    throw Error(where + ": the input has " + std::to_string(data.u.size()) + " samples for " +
+                std::to_string(data.x.size()) + " samples of x");
+  if (st.drive && !data.has_u())
+    throw Error(where + ": the model has a drive term 'u' but the data have no input column");
+  RecordChecks checks;  // the one record validation: at least 2 samples, finite x and u
+  checks.positive_dt = false;
+  try {
+    check_records(data, checks);
+  } catch (const Error& e) {
+    throw Error(where + ": " + e.what());
   }
 }
 

@@ -41,17 +41,17 @@ std::string g(double v, int digits = 4) {
 const ConfigSchema& diagnose_schema() {
   static const ConfigSchema schema = with_keys_after("label", measurement_keys(), ConfigSchema{
       "diagnose-vehs",
-      "Diagnoses a model (contracts.md §2) against measured displacement records: how well does it "
+      "Diagnoses a model (docs/model-file.md) against measured displacement records: how well does it "
       "reproduce them, and where exactly does it fail? Data and, for every record, twins simulated "
       "from the model (same duration, sampling, initial state, drive and measurement process) go "
       "through identical statistics — whitened one-step residuals mapped over (x, v), their spectrum, "
       "p(x, v), E[X^2], E[v^2], well probabilities and transition rates, the spectrum of x — compared "
-      "unit by unit with calibrated tests. Writes a JSON verdict and score (contracts.md §4), a report "
+      "unit by unit with calibrated tests. Writes a JSON verdict and score (docs/outputs.md#diagnosis-file), a report "
       "folder (HTML page with gnuplot figures, their CSVs and scripts) and appends to the model history. "
       "Term-like effects missing from the model are fitted on the first part of every record and ranked "
       "by their held-out evidence (suspects).",
       {
-          {"model", "path | object", "Model file to diagnose (contracts.md §2), or the model inline.", ""},
+          {"model", "path | object", "Model file to diagnose (docs/model-file.md), or the model inline.", ""},
           {"data", "path | [paths]", "Measurement files: CSV (t, x [, traj, u] columns; `#` comments, `,` `;` or tab delimiters), .npy (structured, or 2-D with `columns`) or .mat.", ""},
           {"output", "path", "JSON summary to write (atomically): verdict, score, components, suspects and details.", ""},
           {"report", "path", "Report folder (index.html, figures as SVG with their CSV data and gnuplot scripts, summary.json, history).",

@@ -7,7 +7,7 @@
 
 namespace vehs::tools {
 
-/// The key table of diagnose-vehs (contracts.md §3 plus the diagnosis settings).
+/// The key table of diagnose-vehs (docs/config.md plus the diagnosis settings).
 const ConfigSchema& diagnose_schema();
 
 /// Options of the diagnosis from a config.

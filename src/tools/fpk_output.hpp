@@ -1,6 +1,6 @@
 #pragma once
 // Files and figures of fpk-stationary (tools layer): the density (CSV or .npy), marginals, the statistics
-// JSON of contracts.md §5, sweep tables, and gnuplot figures in the style of the paper's
+// JSON of docs/outputs.md#statistics, sweep tables, and gnuplot figures in the style of the paper's
 // Fig. 3b/4 (density heat map, marginals with the potential) and Fig. 5 (sweep curves/surfaces).
 #include <string>
 #include <vector>

@@ -30,7 +30,7 @@ ConfigSchema make_schema() {
       "density, its marginals, E[X^2], E[Y^2], E[XY], the mass per potential well and exact-identity "
       "checks; optionally sweeps one or two model parameters.";
   s.keys = {
-      {"model", "object|path", "The model (contracts.md section 2): an inline object or the path of a "
+      {"model", "object|path", "The model (docs/model-file.md): an inline object or the path of a "
                                "model file written by identify-vehs. Supports every drift term except "
                                "'u', diffusion monomials, and the impact_stop effect.", ""},
       {"output", "path", "Statistics JSON: E[X^2], E[Y^2], E[XY], boundary_mass, grid, wells, "

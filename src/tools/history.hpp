@@ -3,7 +3,7 @@
 // score, so the report can plot the discrepancy falling as the user adds effects.
 //
 // File: JSON {"entries": [...]} written atomically; every entry holds the run time, a label,
-// the model file, the model itself (contracts.md §2 JSON) and a hash of it, the terms and effects, the verdict, the score and
+// the model file, the model itself (docs/model-file.md) and a hash of it, the terms and effects, the verdict, the score and
 // its components, and a fingerprint of the data (records, samples, dt and a hash of sampled
 // values). Scores are only comparable for the same data: the plot keeps the entries whose
 // fingerprint equals the current one.

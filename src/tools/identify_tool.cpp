@@ -25,7 +25,7 @@ using namespace vehs::identify;
 namespace {
 
 const char* const kEffectsHelp =
-    "Physical effects to include (contracts.md §4): a list of names or {\"name\": ..., \"params\": "
+    "Physical effects to include (docs/model-file.md#effects): a list of names or {\"name\": ..., \"params\": "
     "{...}}. Term-like effects (asymmetric_stiffness, coulomb_friction, quadratic_damping, "
     "nonlinear_damping, velocity_dependent_noise) add their terms to the dictionaries and keep "
     "them through the sparse regression; their physical parameters (e.g. mu = -coef of sign(y)) "
@@ -135,7 +135,7 @@ const ConfigSchema& identify_schema() {
       "identify-vehs",
       "Identifies the drift b2(x, y) and diffusion a22(x) of dX = Y dt, dY = b2 dt + sqrt(a22) dB "
       "from displacement records, with a standard error for every coefficient, and writes a model "
-      "file (contracts.md §2). With a `study` object it runs a consistency study instead (the "
+      "file (docs/model-file.md). With a `study` object it runs a consistency study instead (the "
       "seed paper's Table 4): simulate, identify, tabulate mean (sd) per parameter.",
       {
           {"data", "path | [paths]",

@@ -10,7 +10,7 @@
 
 namespace vehs::tools {
 
-/// The key table of identify-vehs (contracts.md §3 plus the estimator settings).
+/// The key table of identify-vehs (docs/config.md plus the estimator settings).
 const ConfigSchema& identify_schema();
 
 /// Options of the estimator from a config (libraries, effects, estimator, sparsity...).

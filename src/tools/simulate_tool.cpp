@@ -23,7 +23,7 @@ const ConfigSchema& simulate_schema() {
       "statistics (moments with standard errors, histograms on the fpk-stationary grid).",
       {
           {"model", "object|path",
-           "The model (contracts.md section 2): an inline object or the path of a model file. Term-like "
+           "The model (docs/model-file.md): an inline object or the path of a model file. Term-like "
            "effects become drift/diffusion terms; impact_stop, harmonic_forcing, "
            "electromechanical_coupling and colored_noise are simulated as dynamic effects.",
            "", false},

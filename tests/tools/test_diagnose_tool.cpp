@@ -1,4 +1,4 @@
-// diagnose-vehs end to end through its main(): config → JSON per contracts.md §4, a report that
+// diagnose-vehs end to end through its main(): config → JSON per docs/outputs.md#diagnosis-file, a report that
 // renders in headless Chromium with every figure, the model history across two model versions,
 // and bad inputs rejected with exit status 1.
 #include <catch2/catch.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// The model of contracts.md §2: dX = Y dt, dY = b2 dt + sqrt(a22) dB, plus named effects.
+// The model of docs/model-file.md: dX = Y dt, dY = b2 dt + sqrt(a22) dB, plus named effects.
 #include <cstddef>
 #include <map>
 #include <optional>
@@ -13,7 +13,7 @@
 
 namespace vehs {
 
-/// The effect catalogue of contracts.md §4.
+/// The effect catalogue of docs/model-file.md#effects.
 enum class EffectId {
   AsymmetricStiffness,        ///< even powers of x in the restoring force (term-like)
   CoulombFriction,            ///< −μ·sign(y) (term-like)

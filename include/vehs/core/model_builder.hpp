@@ -9,7 +9,8 @@
 //                             .diffusion("1", 0.02).diffusion("x^2", 0.01)
 //                             .effect("coulomb_friction", {{"mu", 0.05}})
 //                             .build();
-//   const vehs::Model paper = vehs::Model::paper(0.1, {{1, -1.0}, {3, 7.7}, {5, -16.3}, {7, 12.5}, {9, -3.1}},
+//   // the paper's k_i (b2 = −β y − Σ k_i x^i), not raw drift coefficients (docs/model-file.md)
+//   const vehs::Model paper = vehs::Model::paper(0.1, {{1, 1.0}, {3, -7.7}, {5, 16.3}, {7, -12.5}, {9, 3.1}},
 //                                                0.02, 0.01);
 #include <map>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // Terms of the drift b2(x, y, u) and diffusion a22(x, y) dictionaries, with the names of
-// contracts.md §2: "1", "x", "x^3", "y", "x^2*y", "y^3", "sign(y)", "y*|y|", "u".
+// docs/model-file.md: "1", "x", "x^3", "y", "x^2*y", "y^3", "sign(y)", "y*|y|", "u".
 #include <string>
 #include <string_view>
 #include <vector>

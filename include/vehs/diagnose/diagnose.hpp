@@ -1,5 +1,5 @@
 #pragma once
-// Model adequacy: how well does a model (contracts.md §2) reproduce measured displacement
+// Model adequacy: how well does a model (docs/model-file.md) reproduce measured displacement
 // records, and where exactly does it fail?
 //
 // Method (see hypothesis.hpp and lens.hpp for the statistics):

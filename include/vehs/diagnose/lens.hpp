@@ -18,7 +18,7 @@
 // drift terms plus the forces of the effects that depend on x or t only (impact_stop,
 // harmonic_forcing). Hidden-state effects (electromechanical_coupling, colored_noise) cannot be
 // evaluated from (x, v̂) and are left in the residual — on both sides of the comparison, since
-// the twins are simulated with them. Units: a22 is the variance rate of dY (contracts.md §2).
+// the twins are simulated with them. Units: a22 is the variance rate of dY (docs/model-file.md).
 #include <cmath>
 #include <cstddef>
 #include <string>

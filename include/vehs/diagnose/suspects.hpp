@@ -1,5 +1,5 @@
 #pragma once
-// Suspects: which catalogue effect (contracts.md §4) missing from the model would the data
+// Suspects: which catalogue effect (docs/model-file.md#effects) missing from the model would the data
 // support? Issue 7: term-like effects, the dynamic forces and colored_noise.
 //
 // Procedure. Every record is split in time: the first (1 − holdout) of its samples train, the

@@ -2,7 +2,7 @@
 // A dictionary of regression terms compiled for fast evaluation on blocks of samples.
 //
 // The identification regresses a target (an acceleration estimate, or a squared residual) on
-// the values of the terms of contracts.md §2 at states (x, v, u): x the displacement, v a
+// the values of the terms of docs/model-file.md at states (x, v, u): x the displacement, v a
 // velocity estimate, u a recorded drive. Besides values, the corrected estimators need
 // derivatives with respect to v (Itô correction of velocity-dependent terms, errors-in-variables
 // correction of sensor noise) and x (sensor-noise correction of the displacement).

@@ -1,5 +1,5 @@
 #pragma once
-// Identification of the dynamic effects of the catalogue (contracts.md §4): forces that are not
+// Identification of the dynamic effects of the catalogue (docs/model-file.md#effects): forces that are not
 // per-sample functions of (x, y, u) — impact stops with unknown gaps, harmonic forcing of unknown
 // frequency, an electromechanical hidden state of unknown time constant, an Ornstein–Uhlenbeck
 // (coloured) excitation.

@@ -20,7 +20,7 @@
 
 namespace vehs::identify {
 
-namespace gram {
+namespace detail {  // the raw kernel and its vector helpers (add_gram below is the API)
 
 typedef double v4d __attribute__((vector_size(32)));
 
@@ -74,7 +74,7 @@ inline void add_AtB(const double* A, std::ptrdiff_t lda, const double* B, std::p
   }
 }
 
-}  // namespace gram
+}  // namespace detail
 
 /// C += Aᵀ·B over the first `rows` rows of A and B (column-major Eigen matrices); with `lower`
 /// (A and B the same matrix) only the lower triangle of C is updated.
@@ -82,7 +82,7 @@ template <class DA, class DB, class DC>
 void add_gram(const Eigen::DenseBase<DA>& A, const Eigen::DenseBase<DB>& B, int rows,
               Eigen::DenseBase<DC>& C, bool lower = false) {
   static_assert(!DA::IsRowMajor && !DB::IsRowMajor && !DC::IsRowMajor, "column-major blocks");
-  gram::add_AtB(A.derived().data(), A.derived().outerStride(), B.derived().data(), B.derived().outerStride(), rows,
+  detail::add_AtB(A.derived().data(), A.derived().outerStride(), B.derived().data(), B.derived().outerStride(), rows,
                 static_cast<int>(A.cols()), static_cast<int>(B.cols()), C.derived().data(), C.derived().outerStride(),
                 lower);
 }

@@ -1,6 +1,6 @@
 #pragma once
 // Identification of dX = Y dt, dY = b2(X, Y, u) dt + sqrt(a22(X, Y)) dB from displacement
-// records (contracts.md §1) sampled at a uniform interval Δt.
+// records (docs/measurements.md) sampled at a uniform interval Δt.
 //
 // Estimators (Options::estimator):
 //  * paper    — the seed paper's method: forward differences y_i = (x_{i+1} − x_i)/Δt,
@@ -64,7 +64,7 @@
 // estimated sensor-noise variance (noisy) is not propagated.
 //
 // Units: time in the units of the records' t column; coefficients of b2 = Σ c·φ and
-// a22 = Σ q·ψ as in contracts.md §2 (a22 is a variance rate, 2D in the paper's notation).
+// a22 = Σ q·ψ as in docs/model-file.md (a22 is a variance rate, 2D in the paper's notation).
 // The fit runs on the data scaled to O(1) by powers of ten (vehs/core/scaling.hpp:
 // natural_scales) and the model is converted back, so the same record in m, mm or
 // non-dimensional gives the same model up to the unit conversion. A standard error that is not
@@ -90,7 +90,7 @@ using vehs::kEstimatorNames;
 struct Options {
   std::vector<Term> drift_library = paper_drift_library(11, 3);
   std::vector<Term> diffusion_library = paper_diffusion_library(4);
-  /// Effects of contracts.md §4. Term-like ones add their terms, kept through selection.
+  /// Effects of docs/model-file.md#effects. Term-like ones add their terms, kept through selection.
   /// Dynamic ones (impact_stop, harmonic_forcing, electromechanical_coupling) are fitted by
   /// profile least squares (vehs/identify/dynamic.hpp); params present in an entry are held
   /// fixed. colored_noise is fitted from the residual autocovariance with the drift refitted by

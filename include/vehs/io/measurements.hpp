@@ -1,5 +1,5 @@
 #pragma once
-// Measurement files (contracts.md §1): CSV with a header row, columns t, x and optionally
+// Measurement files (docs/measurements.md): CSV with a header row, columns t, x and optionally
 // traj (record id), u (recorded drive), y (true velocity, written by the simulator only);
 // NumPy .npy with a structured dtype of the same named fields, or a 2-D float array whose
 // columns ReadOptions::columns names; MATLAB .mat (v5/v7/v7.3 through libmatio): one vector per

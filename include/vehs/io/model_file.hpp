@@ -1,5 +1,5 @@
 #pragma once
-// Model files (contracts.md §2): JSON with "drift" and "diffusion" ({term name: coefficient}),
+// Model files (docs/model-file.md): JSON with "drift" and "diffusion" ({term name: coefficient}),
 // "stderr" ({"drift": {...}, "diffusion": {...}}), "effects" ([{"name", "params", "stderr"}]),
 // "covariance" ({"parameters": ["drift[x]", "diffusion[1]", "impact_stop.gap", ...], "matrix":
 // [[...], ...]}: the covariance of the estimates, Model::covariance),

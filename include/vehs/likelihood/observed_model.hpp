@@ -1,5 +1,5 @@
 #pragma once
-// What the likelihood is a likelihood of: the model SDE of contracts.md §2 (drift, diffusion,
+// What the likelihood is a likelihood of: the model SDE of docs/model-file.md (drift, diffusion,
 // dynamic effects) together with how it was observed — white measurement noise on x and, for
 // harmonic forcing of records started at unrelated times, one phase per record.
 //

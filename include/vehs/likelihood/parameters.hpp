@@ -1,6 +1,6 @@
 #pragma once
 // The fitted parameters of an observed model, by name:
-//   drift[TERM], diffusion[TERM]         coefficients of b2 and a22 (contracts.md §2 names)
+//   drift[TERM], diffusion[TERM]         coefficients of b2 and a22 (docs/model-file.md names)
 //   EFFECT.PARAM                         dynamic effects' parameters (impact_stop.gap, …)
 //   measurement_sd                       the white noise on x
 //   phase[r]                             harmonic_forcing phase of record r (per-record phases)

@@ -1,5 +1,5 @@
 #pragma once
-// Ensembles of records of the model SDE (contracts.md §2), sampled as a sensor samples them, and
+// Ensembles of records of the model SDE (docs/model-file.md), sampled as a sensor samples them, and
 // Monte Carlo statistics of ensembles or long runs.
 //
 // Time axis. A record has `samples` recorded values at t_i = i·dt, i = 0 … samples − 1 (so a

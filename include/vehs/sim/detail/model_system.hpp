@@ -9,7 +9,7 @@
 //     then, when the model has them, the hidden states of dynamic effects:
 //     v (electromechanical_coupling: dv = (y − λ·v) dt, force −coupling·v) and
 //     η (colored_noise: dη = −η/τ dt + sqrt(intensity)/τ dW₂, force +η).
-// Dynamics (Itô, contracts.md §2 plus the catalogue of src/core/model.cpp):
+// Dynamics (Itô, docs/model-file.md plus the catalogue of src/core/model.cpp):
 //     dx = y dt
 //     dy = b2(t, x, y, u, v, η) dt + σ(x, y) dW₁,   σ = sqrt(a22(x, y))
 // with b2 = Σ coef·term(x, y, u) − k_stop·(x − gap)⁺ + k_stop·(−x − gap_neg)⁺

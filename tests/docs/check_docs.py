@@ -1,0 +1,160 @@
+#!/usr/bin/env python3
+"""Keeps docs/ from drifting away from the code (a CTest test, tests/CMakeLists.txt).
+
+  check_docs.py config SOURCE_DIR TOOL=EXECUTABLE...
+      Every key that `EXECUTABLE --help` lists must appear in docs/config.md, in the section
+      "## TOOL", as a line  * `KEY` (SPEC)  with SPEC exactly the text in parentheses that --help
+      prints after the key (type, and default / optional / required); and every such line of the
+      section must be a key of --help. The description below that line is free text.
+  check_docs.py links SOURCE_DIR
+      Relative links of README.md, docs/*.md, examples/ and data/**/README.md point to files that
+      exist; no file refers to contracts.md (its content is in docs/); every identifier the README's
+      "Using the library" table names is declared in include/vehs/.
+Exit status 0 when everything matches, else 1 with one line per problem.
+"""
+import os
+import re
+import subprocess
+import sys
+
+KEY_LINE = re.compile(r"^  (\S+)  \((.*)\)$")          # --help: "  key  (type, default x)"
+DOC_LINE = re.compile(r"^\* `([^`]+)` \((.*)\)\s*$")   # docs:   "* `key` (type, default x)"
+
+
+def help_keys(executable):
+    out = subprocess.run([executable, "--help"], capture_output=True, text=True, timeout=60)
+    if out.returncode != 0:
+        raise SystemExit(f"{executable} --help exited with {out.returncode}: {out.stderr.strip()}")
+    keys, inside = {}, False
+    for line in out.stdout.splitlines():
+        if line.startswith("Config keys"):
+            inside = True
+            continue
+        if inside:
+            if not line.strip():
+                break
+            m = KEY_LINE.match(line)
+            if m:
+                keys[m.group(1)] = m.group(2)
+    if not keys:
+        raise SystemExit(f"{executable} --help lists no config keys (format changed?)")
+    return keys
+
+
+def doc_sections(path):
+    sections, current = {}, None
+    with open(path, encoding="utf-8") as f:
+        for number, line in enumerate(f, 1):
+            line = line.rstrip("\n")
+            if line.startswith("## "):
+                current = line[3:].strip().strip("`")
+                sections.setdefault(current, {})
+            elif current is not None:
+                m = DOC_LINE.match(line)
+                if m:
+                    sections[current][m.group(1)] = (m.group(2), number)
+    return sections
+
+
+def check_config(source, tools):
+    doc = os.path.join(source, "docs", "config.md")
+    sections = doc_sections(doc)
+    problems = []
+    for spec in tools:
+        tool, executable = spec.split("=", 1)
+        keys = help_keys(executable)
+        documented = sections.get(tool)
+        if documented is None:
+            problems.append(f"docs/config.md: no section '## {tool}'")
+            continue
+        for key, text in keys.items():
+            if key not in documented:
+                problems.append(f"docs/config.md: section {tool} lacks key '{key}': add the line  * `{key}` ({text})")
+            elif documented[key][0] != text:
+                problems.append(f"docs/config.md:{documented[key][1]}: {tool} '{key}' is documented as "
+                                f"({documented[key][0]}) but --help says ({text})")
+        for key, (_, number) in documented.items():
+            if key not in keys:
+                problems.append(f"docs/config.md:{number}: {tool} has no key '{key}' (not in --help)")
+    return problems
+
+
+LINK = re.compile(r"\]\(([^)#\s]+)(#[^)\s]*)?\)")
+
+
+def markdown_files(source):
+    files = [os.path.join(source, "README.md")]
+    for folder in ("docs", "examples", "data"):
+        for root, _, names in os.walk(os.path.join(source, folder)):
+            files += [os.path.join(root, n) for n in names if n.endswith(".md")]
+    return files
+
+
+def check_links(source):
+    problems = []
+    for path in markdown_files(source):
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+        for m in LINK.finditer(text):
+            target = m.group(1)
+            if re.match(r"^[a-z]+://", target) or target.startswith("mailto:"):
+                continue
+            if not os.path.exists(os.path.normpath(os.path.join(os.path.dirname(path), target))):
+                problems.append(f"{os.path.relpath(path, source)}: link to missing '{target}'")
+    for top in ("README.md", "docs", "include", "src", "apps", "data", "examples", "tests", "scripts", "bench"):
+        full = os.path.join(source, top)
+        walk = [(source, [], [top])] if os.path.isfile(full) else os.walk(full)
+        for root, _, names in walk:
+            for n in names:
+                p = os.path.join(root, n)
+                if os.path.realpath(p) == os.path.realpath(__file__) or not n.endswith((".md", ".hpp", ".cpp", ".sh", ".json", ".txt", ".py")):
+                    continue
+                with open(p, encoding="utf-8", errors="replace") as f:
+                    for number, line in enumerate(f, 1):
+                        if "contracts.md" in line:
+                            problems.append(f"{os.path.relpath(p, source)}:{number}: refers to contracts.md "
+                                            "(now docs/: see docs/README.md)")
+    problems += check_readme_names(source)
+    return problems
+
+
+def check_readme_names(source):
+    """Identifiers in the third column of the README's "Using the library" table exist in include/."""
+    with open(os.path.join(source, "README.md"), encoding="utf-8") as f:
+        readme = f.read()
+    start = readme.find("## Using the library")
+    if start < 0:
+        return ["README.md: no section '## Using the library'"]
+    section = readme[start:readme.find("\n## ", start + 1)]
+    headers = ""
+    for root, _, names in os.walk(os.path.join(source, "include", "vehs")):
+        for n in names:
+            with open(os.path.join(root, n), encoding="utf-8") as f:
+                headers += f.read()
+    problems = []
+    for row in section.splitlines():
+        cells = row.split("|")
+        if len(cells) < 4 or cells[1].strip() in ("area (target)", "---"):
+            continue
+        for name in re.findall(r"`([A-Za-z_][A-Za-z0-9_:]*)`", cells[3]):
+            short = name.split("::")[-1]
+            if not re.search(r"\b" + re.escape(short) + r"\b", headers):
+                problems.append(f"README.md: 'Using the library' names '{name}', which include/vehs/ does not declare")
+    return problems
+
+
+def main(argv):
+    if len(argv) >= 3 and argv[1] == "config":
+        problems = check_config(argv[2], argv[3:])
+    elif len(argv) == 3 and argv[1] == "links":
+        problems = check_links(argv[2])
+    else:
+        print(__doc__)
+        return 2
+    for p in problems:
+        print(p)
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
