@@ -24,13 +24,13 @@ std::vector<KeySpec> measurement_keys() {
        "only checked against it (within sampling.jitter_tolerance).",
        "", true},
       {"sampling", "object",
-       "Time-column tolerances: {\"jitter_tolerance\": 0.01 (largest relative deviation of a time "
+       "Time-column tolerances: {\"jitter_tolerance\": 0.15 (largest relative deviation of a time "
        "step from the record's interval: rounded, float32 or jittered logger stamps), "
        "\"jitter_warning\": 1e-4 (a warning above), \"on_gap\": \"split\" | \"fail\" (a step longer "
        "than 1.5 intervals, or a row with an empty, NaN or infinite x, t or u: split the record there, "
        "dropping pieces shorter than 16 samples, or stop with an error naming the line)}. The counts "
        "are reported on stderr and in the output's data section.",
-       "{\"jitter_tolerance\": 0.01, \"jitter_warning\": 1e-4, \"on_gap\": \"split\"}"},
+       "{\"jitter_tolerance\": 0.15, \"jitter_warning\": 1e-4, \"on_gap\": \"split\"}"},
       {"detrend", "string",
        "\"mean\": subtract each record's mean from x and u (DC offsets of real sensors); \"none\": use "
        "the data as they are.",
