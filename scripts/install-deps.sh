@@ -9,6 +9,8 @@ packages=(
   libcli11-dev libfast-float-dev libbenchmark-dev
   # Ceres Solver: maximum likelihood with automatic derivatives (likelihood area)
   libceres-dev
+  # MATLAB .mat measurement files (src/io/mat_reader.cpp)
+  libmatio-dev
   gnuplot-nox chromium
   # scripts/simd_compare.py (the SIMD-width check of .ci/run; standard library only)
   python3

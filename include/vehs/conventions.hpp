@@ -26,8 +26,14 @@
 //
 // Tolerances that are part of the contract:
 namespace vehs::conventions {
-/// Relative jitter of the sampling interval allowed within one record (docs/measurements.md).
-inline constexpr double sampling_jitter_tolerance = 1e-6;
+/// Relative deviation of a time step from its record's interval allowed by default: logged
+/// stamps rounded to 6 decimals (3e-4 at 300 Hz), float32 stamps, a software clock jittering by
+/// ±0.2 ms at 300 Hz (steps up to 12 % off); a gap is a step of more than 1.5 intervals. The
+/// readers' ReadOptions::jitter_tolerance (docs/measurements.md) (a warning above ReadOptions::jitter_warning, 1e-4).
+inline constexpr double sampling_jitter_tolerance = 0.15;
+/// Relative difference of the intervals of records that must share one (Dataset::common_dt,
+/// a config's dt against the files'): their mean steps, each averaged over a whole record.
+inline constexpr double record_dt_tolerance = 1e-6;
 /// Probability mass allowed on the boundary cells of a user-given FPK domain.
 inline constexpr double fpk_boundary_mass_tolerance = 1e-6;
 /// Condition number (of the column-equilibrated Gram matrix) above which a dictionary is

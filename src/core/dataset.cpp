@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "vehs/conventions.hpp"
 #include "vehs/core/error.hpp"
 
 namespace vehs {
@@ -28,7 +29,7 @@ std::string record_problem(const Dataset& d, const Record& r, const RecordChecks
            std::to_string(c.min_samples) + " needed)";
   if (c.positive_dt && (!(r.dt > 0.0) || !std::isfinite(r.dt)))
     return record_name(r) + " has no valid sampling interval (dt = " + short_num(r.dt) + ")";
-  if (c.expected_dt > 0.0 && std::abs(r.dt - c.expected_dt) > 1e-6 * c.expected_dt)
+  if (c.expected_dt > 0.0 && std::abs(r.dt - c.expected_dt) > conventions::record_dt_tolerance * c.expected_dt)
     return record_name(r) + " is sampled at dt = " + num(r.dt) + " but the config says dt = " +
            num(c.expected_dt) +
            " (remove 'dt' to use the files' time column, or give the right interval)";
@@ -53,7 +54,7 @@ double Dataset::common_dt() const {
   require(!records.empty(), "dataset has no records");
   const double dt = records.front().dt;
   for (const auto& r : records)
-    if (std::abs(r.dt - dt) > 1e-6 * dt)
+    if (std::abs(r.dt - dt) > conventions::record_dt_tolerance * dt)
       throw Error(r.source + ": record " + std::to_string(r.id) + " has dt = " + num(r.dt) + " but " +
                   records.front().source + " record " + std::to_string(records.front().id) +
                   " has dt = " + num(dt) + " (all records must share one sampling interval)");

@@ -104,6 +104,30 @@ EffectTerms unit_effect_terms(EffectId id) {
   return effect_terms(unit);
 }
 
+std::size_t ParameterCovariance::index_of(std::string_view name) const {
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return i;
+  return names.size();
+}
+
+std::string ParameterCovariance::invalid_reason() const {
+  const std::size_t n = names.size();
+  if (matrix.size() != n * n)
+    return "the matrix has " + std::to_string(matrix.size()) + " entries, not " +
+           std::to_string(n) + "² for " + std::to_string(n) + " names";
+  for (std::size_t i = 0; i < n; ++i) {
+    if (index_of(names[i]) != i) return "the name '" + names[i] + "' appears twice";
+    if (!((*this)(i, i) >= 0.0)) return "the variance of '" + names[i] + "' is negative or NaN";
+    for (std::size_t j = 0; j < n; ++j) {
+      const double a = (*this)(i, j), b = (*this)(j, i);
+      if (!std::isfinite(a)) return "the entry of '" + names[i] + "', '" + names[j] + "' is not finite";
+      if (std::abs(a - b) > 1e-9 * (std::abs(a) + std::abs(b)))
+        return "the matrix is not symmetric at '" + names[i] + "', '" + names[j] + "'";
+    }
+  }
+  return "";
+}
+
 double Model::drift_coef(std::string_view term) const {
   return coefficient(drift, Term::parse(term));
 }

@@ -32,10 +32,15 @@ void add_fpk_reference(const Comparison& cmp, Result& res) {
       res.quantities[0].reference = st.moments.exx;
       res.quantities[1].reference = st.moments.eyy;
       res.fpk_note = "stationary FPK of the model on " + std::to_string(g.x.n) + " x " + std::to_string(g.y.n) +
-                     " cells over x in [" + fmt(g.x.min) + ", " + fmt(g.x.max) + "], y in [" + fmt(g.y.min) + ", " +
+                     " cells" +
+                     (st.refinements > 0 ? " (refined from " + std::to_string(opt.fpk_cells) +
+                                               " per axis, which did not resolve the model)"
+                                         : std::string()) +
+                     " over x in [" + fmt(g.x.min) + ", " + fmt(g.x.max) + "], y in [" + fmt(g.y.min) + ", " +
                      fmt(g.y.max) + "]";
     } catch (const Error& e) {
       res.fpk_note = std::string("the stationary FPK of the model could not be solved: ") + e.what();
+      res.warnings.push_back("no FPK reference: " + res.fpk_note);  // never dropped silently
     }
   } else if (!opt.fpk) {
     res.fpk_note = "FPK reference switched off";

@@ -241,20 +241,27 @@ std::string DomainOptions::invalid_reason() const {
   if (!(log_density_drop > 0.0) || !std::isfinite(log_density_drop)) return "log_density_drop must be > 0";
   if (!(boundary_mass_tolerance > 0.0) || !std::isfinite(boundary_mass_tolerance))
     return "boundary_mass_tolerance must be > 0";
+  if (max_cells < 0) return "max_cells must be >= 0";
   return "";
 }
 
-StationaryResult solve_with_domain(const FpkModel& model, const GridRequest& request,
-                                   const SolveOptions& options, const DomainOptions& domain) {
-  if (auto why = domain.invalid_reason(); !why.empty()) throw Error(why);
+namespace {
+
+/// Thrown inside solve_on when the grid does not resolve the model.
+struct Unresolved {
+  std::string why;
+};
+
+StationaryResult solve_on(const FpkModel& model, const GridRequest& request, Grid grid, const SolveOptions& options,
+                          const DomainOptions& domain) {
   const double tol = domain.boundary_mass_tolerance;
-  Grid grid = request.grid;
   if (request.auto_x || request.auto_y) {
     const Grid a = automatic_domain(model, grid.x.n, grid.y.n, domain);
     if (request.auto_x) grid.x = a.x;
     if (request.auto_y) grid.y = a.y;
   }
   const int max_enlargements = 6;
+  double previous = -1.0;
   for (int attempt = 0;; ++attempt) {
     StationaryResult res = solve_stationary(model, grid, options);
     res.auto_domain = request.auto_x || request.auto_y;
@@ -264,12 +271,11 @@ StationaryResult solve_with_domain(const FpkModel& model, const GridRequest& req
                   std::to_string(res.summary.iterations) +
                   " iterations on " + std::to_string(grid.x.n) + "x" + std::to_string(grid.y.n) +
                   " cells (raise max_iterations or use the direct solver)");
+    const std::string cells = std::to_string(grid.x.n) + "x" + std::to_string(grid.y.n) + " cells";
     if (std::abs(res.boundary_mass) <= tol) {
       if (res.summary.negative_mass < -kMaxUndershoot)
-        throw Error(model.where() + ": the solution undershoots (negative density of total mass " +
-                    num(res.summary.negative_mass) + " on " + std::to_string(grid.x.n) + "x" +
-                    std::to_string(grid.y.n) +
-                    " cells): the grid does not resolve the density; use more cells");
+        throw Unresolved{"the solution undershoots (negative density of total mass " +
+                         num(res.summary.negative_mass) + " on " + cells + ")"};
       return res;
     }
     const double mx = std::abs(res.boundary_mass_x), my = std::abs(res.boundary_mass_y);
@@ -290,21 +296,48 @@ StationaryResult solve_with_domain(const FpkModel& model, const GridRequest& req
                   "; allowed in total: " + num(tol) +
                   "); enlarge the domain, omit the axis for an automatic range, or raise "
                   "boundary_mass_tolerance");
+    // an enlarged domain with coarser cells that keeps as much mass on its boundary: the
+    // boundary mass is discretisation error, not tails
+    if (previous >= 0.0 && std::abs(res.boundary_mass) > 0.5 * previous)
+      throw Unresolved{num(res.boundary_mass) + " of the mass stays on the boundary of " + cells +
+                       " when the automatic domain is enlarged"};
     if (attempt >= max_enlargements && res.boundary_mass < 0.0)  // oscillations, not tails
-      throw Error(model.where() + ": negative density on the domain's edges (boundary mass " + num(res.boundary_mass) +
-                  " on " + std::to_string(grid.x.n) + "x" + std::to_string(grid.y.n) +
-                  " cells, after " + std::to_string(max_enlargements) +
-                  " enlargements of the automatic domain): the grid does not resolve the density; use more cells");
+      throw Unresolved{"negative density on the domain's edges (boundary mass " + num(res.boundary_mass) + " on " +
+                       cells + ")"};
     if (attempt >= max_enlargements)
-      throw Error(model.where() + ": " + num(res.boundary_mass) +
-                  " of the mass stays on the boundary after " + std::to_string(max_enlargements) +
-                  " enlargements of the automatic domain (heavy tails?)");
-    // widen the automatic axes by asking for a larger density drop at their edges
+      throw Error(model.where() + ": " + num(res.boundary_mass) + " of the mass stays on the boundary after " +
+                  std::to_string(max_enlargements) + " enlargements of the automatic domain (heavy tails?)");
+    previous = std::abs(res.boundary_mass);
     DomainOptions wider = domain;
     wider.log_density_drop = domain.log_density_drop + 8.0 * (attempt + 1);
     const Grid a = automatic_domain(model, grid.x.n, grid.y.n, wider);
     if (request.auto_x && bad_x) grid.x = a.x;
     if (request.auto_y && bad_y) grid.y = a.y;
+  }
+}
+
+}  // namespace
+
+StationaryResult solve_with_domain(const FpkModel& model, const GridRequest& request,
+                                   const SolveOptions& options, const DomainOptions& domain) {
+  if (auto why = domain.invalid_reason(); !why.empty()) throw Error(why);
+  Grid grid = request.grid;
+  for (int refinements = 0;; ++refinements) {
+    try {
+      StationaryResult res = solve_on(model, request, grid, options, domain);
+      res.refinements = refinements;
+      return res;
+    } catch (const Unresolved& u) {
+      const bool can_refine = (request.auto_x || request.auto_y) && 2 * std::max(grid.x.n, grid.y.n) <= domain.max_cells;
+      if (!can_refine)
+        throw Error(model.where() + ": the grid does not resolve the model: " + u.why + "; use at least " +
+                    std::to_string(2 * grid.x.n) + "x" + std::to_string(2 * grid.y.n) + " cells" +
+                    (domain.max_cells > 0 ? " (automatic refinement stops at " + std::to_string(domain.max_cells) +
+                                                " cells per axis)"
+                                          : ""));
+      grid.x.n *= 2;
+      grid.y.n *= 2;
+    }
   }
 }
 

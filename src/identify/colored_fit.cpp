@@ -437,6 +437,7 @@ Result identify_colored(const Dataset& data, const Options& options) {
   fit_white_diffusion(cp, res, fo, wd);
 
   Result out = std::move(cur);
+  out.model.covariance = {};  // the GLS refit has standard errors only
   out.model.drift_stderr.clear();
   for (int j = 0; j < p; ++j) {
     out.model.drift[static_cast<std::size_t>(j)].coef = c[j];

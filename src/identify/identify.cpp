@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "colored_fit.hpp"
+#include "physical_units.hpp"
 #include "profile_fit.hpp"
 #include "term_fit.hpp"
 #include "vehs/core/error.hpp"
@@ -107,21 +108,31 @@ void check_sensor_noise(const Result& r, const Dataset& data) {
                 "): the data are not samples of a continuous signal plus white noise (glitches? a wrong column?)");
 }
 
+Result dispatch(const Dataset& data, const Options& options) {
+  for (const auto& e : options.effects)
+    if (e.id == EffectId::ColoredNoise) return detail::identify_colored(data, options);
+  for (const auto& e : options.effects)
+    if (is_dynamic(e.id)) return detail::identify_profile(data, options);
+  return detail::identify_terms(data, options);
+}
+
 }  // namespace
 
 Result identify(const Dataset& data, const Options& options) {
   if (auto why = options.invalid_reason(); !why.empty()) throw Error("identify: " + why);
   if (options.known_force)
     require(options.known_force->size() == data.x.size(), "identify: known_force must have one value per sample");
-  auto fit = [&] {
-    for (const auto& e : options.effects)
-      if (e.id == EffectId::ColoredNoise) return detail::identify_colored(data, options);
-    for (const auto& e : options.effects)
-      if (is_dynamic(e.id)) return detail::identify_profile(data, options);
-    return detail::identify_terms(data, options);
-  };
-  Result r = fit();
+  const Scales s = natural_scales(data);
+  Result r;
+  if (s.is_identity()) {
+    r = dispatch(data, options);
+  } else {
+    std::vector<double> force;
+    const Options internal = detail::options_in_internal_units(options, s, force);
+    r = detail::result_in_physical_units(dispatch(to_internal(data, s), internal), s);
+  }
   check_sensor_noise(r, data);
+  detail::require_finite_standard_errors(r.model);
   return r;
 }
 

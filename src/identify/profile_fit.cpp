@@ -328,6 +328,7 @@ Result identify_profile(const Dataset& data, const Options& options) {
   Result res = std::move(cur);
   res.model.effects = fitted;
   use_joint_stderr(fit, res.model);
+  res.model.covariance = {};  // the term fit's sandwich no longer matches these errors
   info.effects = fitted;
   info.profile_contrast = fit.contrast;
   info.rows = fit.rows;

@@ -40,7 +40,7 @@ ScoreSums score_sums(const std::vector<DiffusionStats>& folds) {
 VectorXd term_standard_errors(const ScoreSums& sums, const DiffusionSetup& ds, const Dictionary& phi, int P,
                               const std::vector<int>& S, const std::vector<int>& T, const VectorXd& q, double s2,
                               const MatrixXd& drift_G, const MatrixXd& ito, bool ito_correction,
-                              const MatrixXd& diffusion_G) {
+                              const MatrixXd& diffusion_G, MatrixXd* covariance) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   const MatrixXd omega_all = score_covariance(sums.kron, score_rows(ds, P), q, s2);
   const int p = static_cast<int>(S.size() + T.size());
@@ -74,6 +74,7 @@ VectorXd term_standard_errors(const ScoreSums& sums, const DiffusionSetup& ds, c
     const MatrixXd Jinv = J.fullPivLu().inverse();
     const MatrixXd cov = Jinv * omega * Jinv.transpose();
     for (int i = 0; i < p; ++i) se[i] = cov(i, i) > 0 ? std::sqrt(cov(i, i)) : kNaN;
+    if (covariance) *covariance = 0.5 * (cov + cov.transpose());
   }
   return se;
 }

@@ -23,9 +23,11 @@ ScoreSums score_sums(const std::vector<DiffusionStats>& folds);
 /// order), at the final diffusion q (full ψ library) and sensor-noise variance s2. `drift_G` is the
 /// corrected drift Gram matrix, `ito` the Itô moments Σ ψ ∂_vφ (used when `ito_correction`), and
 /// `diffusion_G` the weighted diffusion Gram matrix. NaN where the variance is not positive.
+/// `covariance`, when given, receives the whole sandwich (same order).
 Eigen::VectorXd term_standard_errors(const ScoreSums& sums, const DiffusionSetup& ds, const Dictionary& phi, int P,
                                      const std::vector<int>& S, const std::vector<int>& T, const Eigen::VectorXd& q,
                                      double s2, const Eigen::MatrixXd& drift_G, const Eigen::MatrixXd& ito,
-                                     bool ito_correction, const Eigen::MatrixXd& diffusion_G);
+                                     bool ito_correction, const Eigen::MatrixXd& diffusion_G,
+                                     Eigen::MatrixXd* covariance = nullptr);
 
 }  // namespace vehs::identify::detail

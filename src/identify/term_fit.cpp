@@ -214,6 +214,20 @@ void add_terms(TermList& list, std::map<std::string, double>& stderr_, const Dic
   canonicalize(list, what);
 }
 
+/// The sandwich with the model file's parameter names (drift on S, then diffusion on T).
+ParameterCovariance named_covariance(const Dictionary& phi, const std::vector<int>& S, const Dictionary& psi,
+                                     const std::vector<int>& T, const Eigen::MatrixXd& cov) {
+  ParameterCovariance c;
+  for (int t : S) c.names.push_back("drift[" + phi.name(t) + "]");
+  for (int t : T) c.names.push_back("diffusion[" + psi.name(t) + "]");
+  if (cov.rows() != static_cast<Eigen::Index>(c.names.size())) return {};
+  c.matrix.resize(c.names.size() * c.names.size());
+  for (std::size_t i = 0; i < c.names.size(); ++i)
+    for (std::size_t j = 0; j < c.names.size(); ++j)
+      c(i, j) = cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+  return c;
+}
+
 // ------------------------------------------------------------------------------- the stages
 
 /// How the data were sampled and what that decides: the estimator, the stride, and the pilot in
@@ -323,9 +337,11 @@ void finish_terms(const std::vector<DiffusionStats>& qfolds, const DiffusionSetu
   const SupportFit cfit = fit_support(drift_total, S);
   const VectorXd c = full_coefficients(cfit, phi.size());
   const ScoreSums sums = score_sums(qfolds);
+  Eigen::MatrixXd cov;
   const VectorXd se = term_standard_errors(sums, ds, phi, dict.psi.size(), S, diffusion.support, diffusion.q, drift.s2,
-                                           drift_total.G, drift.total.ito, drift.corr.ito, diffusion.total.G);
+                                           drift_total.G, drift.total.ito, drift.corr.ito, diffusion.total.G, &cov);
   Model& m = res.model;
+  m.covariance = named_covariance(phi, S, dict.psi, diffusion.support, cov);
   add_terms(m.drift, m.drift_stderr, phi, S, c, se, 0, "identified drift");
   add_terms(m.diffusion, m.diffusion_stderr, dict.psi, diffusion.support, diffusion.q, se, static_cast<int>(S.size()),
             "identified diffusion");

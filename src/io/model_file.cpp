@@ -256,6 +256,52 @@ nlohmann::ordered_json effect_to_json(const Effect& e) {
   return j;
 }
 
+namespace {
+
+// ---- "covariance": {"parameters": [names], "matrix": [[row], ...]}
+
+ParameterCovariance covariance_from_json(const nlohmann::json& j, const std::string& where) {
+  if (!j.is_object() || !j.contains("parameters") || !j.contains("matrix") || !j["parameters"].is_array() ||
+      !j["matrix"].is_array())
+    throw Error(where + " must be an object with a list 'parameters' and a list of rows 'matrix'");
+  ParameterCovariance c;
+  for (const auto& n : j["parameters"]) {
+    if (!n.is_string()) throw Error(where + ".parameters must be a list of names");
+    c.names.push_back(n.get<std::string>());
+  }
+  const auto& rows = j["matrix"];
+  if (rows.size() != c.names.size())
+    throw Error(where + ".matrix has " + std::to_string(rows.size()) + " rows for " +
+                std::to_string(c.names.size()) + " parameters");
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const std::string w = where + ".matrix[" + std::to_string(i) + "]";
+    if (!rows[i].is_array() || rows[i].size() != c.names.size())
+      throw Error(w + " must be a row of " + std::to_string(c.names.size()) + " numbers");
+    for (std::size_t k = 0; k < rows[i].size(); ++k)
+      c.matrix.push_back(finite_number(rows[i][k], w + "[" + std::to_string(k) + "]"));
+  }
+  if (auto why = c.invalid_reason(); !why.empty()) throw Error(where + ": " + why);
+  return c;
+}
+
+OJ covariance_to_json(const ParameterCovariance& c) {
+  OJ j;
+  j["parameters"] = c.names;
+  j["matrix"] = OJ::array();
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    OJ row = OJ::array();
+    for (std::size_t k = 0; k < c.size(); ++k) row.push_back(c(i, k));
+    j["matrix"].push_back(row);
+  }
+  return j;
+}
+
+bool is_model_key(const std::string& key) {
+  return key == "drift" || key == "diffusion" || key == "stderr" || key == "effects" || key == "covariance";
+}
+
+}  // namespace
+
 Model model_from_json(const nlohmann::json& j, const std::string& where, nlohmann::ordered_json* sections) {
   if (!j.is_object()) throw Error(where + ": a model must be a JSON object");
   Model m;
@@ -280,10 +326,10 @@ Model model_from_json(const nlohmann::json& j, const std::string& where, nlohman
     }
   }
   m.fit = fit_from_json(j, where);
+  if (j.contains("covariance")) m.covariance = covariance_from_json(j["covariance"], where + ": covariance");
   if (sections)
     for (auto it = j.begin(); it != j.end(); ++it)
-      if (it.key() != "drift" && it.key() != "diffusion" && it.key() != "stderr" && it.key() != "effects")
-        (*sections)[it.key()] = it.value();
+      if (!is_model_key(it.key())) (*sections)[it.key()] = it.value();
   return m;
 }
 
@@ -322,7 +368,9 @@ nlohmann::ordered_json model_to_json(const Model& m, const nlohmann::ordered_jso
   }
   j["effects"] = OJ::array();
   for (const auto& e : m.effects) j["effects"].push_back(effect_to_json(e));
-  for (auto it = sections.begin(); it != sections.end(); ++it) j[it.key()] = it.value();
+  if (!m.covariance.empty()) j["covariance"] = covariance_to_json(m.covariance);
+  for (auto it = sections.begin(); it != sections.end(); ++it)
+    if (!is_model_key(it.key())) j[it.key()] = it.value();
   if (m.fit) {
     OJ est = j.contains("estimator") && j["estimator"].is_object() ? j["estimator"] : OJ::object();
     OJ samp = j.contains("sampling") && j["sampling"].is_object() ? j["sampling"] : OJ::object();

@@ -1,5 +1,6 @@
 #include "tools/app.hpp"
 
+#include <algorithm>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -17,6 +18,8 @@ namespace vehs::tools {
 namespace {
 constexpr long long kMaxThreads = 1024;
 }  // namespace
+
+const char* library_version() { return "vehs " VEHS_VERSION; }
 
 int run_app(int argc, char** argv, const ConfigSchema& schema,
             const std::function<int(Config&, const AppOptions&)>& body) {
@@ -42,12 +45,23 @@ int run_app(int argc, char** argv, const ConfigSchema& schema,
           },
           "INT in [0, 1024]"));
   app.add_flag("--quiet,-q", options.quiet, "no progress reports on stderr");
+  app.set_version_flag("--version", schema.tool + " (" + library_version() + ")");
+  // a boolean key fail_on_<x> is also the flag --fail-on-<x>
+  std::vector<std::string> flag_keys;
+  for (const auto& k : schema.keys)
+    if (k.name.rfind("fail_on_", 0) == 0) flag_keys.push_back(k.name);
+  std::vector<char> flag_set(flag_keys.size(), 0);  // (vector<bool> has no element references)
+  for (std::size_t i = 0; i < flag_keys.size(); ++i) {
+    std::string flag = "--" + flag_keys[i];
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    app.add_flag_callback(flag, [&flag_set, i] { flag_set[i] = 1; }, "sets the config key " + flag_keys[i] + " (see below)");
+  }
   app.footer(schema.help_text());
   app.get_formatter()->column_width(28);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     std::cerr << schema.tool << ": " << e.what() << " (see --help)\n";
     return 2;
   }
@@ -57,11 +71,13 @@ int run_app(int argc, char** argv, const ConfigSchema& schema,
     set_threads(options.threads);
     Config config = Config::load(config_path, schema);
     for (const auto& o : overrides) config.set_override(o, schema);
+    for (std::size_t i = 0; i < flag_keys.size(); ++i)
+      if (flag_set[i]) config.set_override(flag_keys[i] + "=true", schema);
     // all outputs of the run or none: staged next to their destinations, moved into place at the end
     OutputTransaction outputs;
     declare_run_files(config, outputs);
     const int status = body(config, options);
-    if (status == 0) outputs.commit();
+    outputs.commit();  // a body that returns normally wrote a complete run (3: an inadequate verdict)
     return status;
   } catch (const Error& e) {
     std::cerr << schema.tool << ": error: " << e.what() << "\n";

@@ -1,7 +1,7 @@
 #pragma once
 // The common front end of the executables: `tool CONFIG.json [--set key=value]... [--threads N]
-// [--quiet]`, --help printing the key table, one-line errors with a non-zero exit, and progress
-// on the terminal.
+// [--quiet]`, --help printing the key table, --version, one-line errors with a non-zero exit, and
+// progress on stderr (a line redrawn in place on a terminal, one line per update otherwise).
 #include <functional>
 
 #include "tools/config.hpp"
@@ -15,6 +15,9 @@ struct AppOptions {
   /// Progress display on stderr (empty when quiet): pass it to the library's options.
   ProgressCallback progress;
 };
+
+/// "vehs 0.1.0": the version every tool prints with --version and writes into its outputs.
+const char* library_version();
 
 /// Parses the command line, loads and checks the config, runs `body`. Returns the exit code:
 /// 0 success, 1 a vehs::Error (bad config, data or model; printed as one line), 2 usage.

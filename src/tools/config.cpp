@@ -72,6 +72,13 @@ std::string ConfigSchema::help_text() const {
   return os.str();
 }
 
+ConfigSchema with_keys_after(const std::string& after, const std::vector<KeySpec>& keys, ConfigSchema schema) {
+  auto at = std::find_if(schema.keys.begin(), schema.keys.end(), [&](const KeySpec& k) { return k.name == after; });
+  if (at != schema.keys.end()) ++at;
+  schema.keys.insert(at, keys.begin(), keys.end());
+  return schema;
+}
+
 const KeySpec* ConfigSchema::find(const std::string& key) const {
   for (const auto& k : keys)
     if (k.name == key) return &k;

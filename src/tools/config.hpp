@@ -29,6 +29,9 @@ struct ConfigSchema {
   const KeySpec* find(const std::string& key) const;
 };
 
+/// `schema` with `keys` inserted after the key `after` (keys shared by several tools).
+ConfigSchema with_keys_after(const std::string& after, const std::vector<KeySpec>& keys, ConfigSchema schema);
+
 /// A view of one JSON object of a config file, remembering where it came from so that every
 /// error names the file and the key path ("sim.json: 'grid.x' must be [min, max, n]").
 class Config {

@@ -20,13 +20,6 @@ KeySpec glitches_key_spec() {
 }
 
 Dataset checked_measurements(const Config& c, Dataset data) {
-  if (c.has("dt")) {
-    const double dt = c.positive("dt");
-    for (const auto& r : data.records)
-      if (std::abs(r.dt - dt) > 1e-6 * dt)
-        c.fail("dt", "is " + detail::format_number(dt, 6) + " but " + record_name(r) + " is sampled at " +
-                         detail::format_number(r.dt, 6) + " by its time column (drop 'dt' or the time column)");
-  }
   const std::string rule = c.string_or("glitches", "error");
   if (rule != "error" && rule != "drop" && rule != "keep")
     c.fail("glitches", "must be \"error\", \"drop\" or \"keep\" (got \"" + rule + "\")");

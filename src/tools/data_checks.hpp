@@ -1,6 +1,6 @@
 #pragma once
-// Checks of measurement data that need the config (identify-vehs, diagnose-vehs): a config `dt`
-// that contradicts the files' time columns, and isolated glitch samples (vehs/core/glitches.hpp)
+// Checks of measurement data that need the config (identify-vehs, diagnose-vehs, through
+// load_measurements): isolated glitch samples (vehs/core/glitches.hpp)
 // handled by the config key `glitches`: "error" (default: stop, naming the rows), "drop" (cut the
 // records at the glitches, reported on stderr) or "keep" (data with genuine single-sample spikes).
 #include <string>
@@ -10,7 +10,7 @@
 
 namespace vehs::tools {
 
-/// The `glitches` key of identify-vehs' and diagnose-vehs' key tables.
+/// The `glitches` key of the measurement keys (measurement_config.hpp).
 KeySpec glitches_key_spec();
 
 /// Applies the checks to freshly read `data`; returns the data to fit (without dropped glitches,

@@ -3,13 +3,16 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "tools/data_checks.hpp"
 #include "tools/diagnosis_file.hpp"
 #include "tools/diagnosis_report.hpp"
 #include "tools/history.hpp"
 #include "tools/html_report.hpp"
+#include "tools/measurement_config.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/io/measurements.hpp"
@@ -37,7 +40,7 @@ std::string g(double v, int digits = 4) {
 }  // namespace
 
 const ConfigSchema& diagnose_schema() {
-  static const ConfigSchema schema{
+  static const ConfigSchema schema = with_keys_after("label", measurement_keys(), ConfigSchema{
       "diagnose-vehs",
       "Diagnoses a model (docs/model-file.md) against measured displacement records: how well does it "
       "reproduce them, and where exactly does it fail? Data and, for every record, twins simulated "
@@ -50,21 +53,13 @@ const ConfigSchema& diagnose_schema() {
       "by their held-out evidence (suspects).",
       {
           {"model", "path | object", "Model file to diagnose (docs/model-file.md), or the model inline.", ""},
-          {"data", "path | [paths]", "Measurement files (CSV with t, x [, traj, u] columns, or structured .npy).", ""},
+          {"data", "path | [paths]", "Measurement files: CSV (t, x [, traj, u] columns; `#` comments, `,` `;` or tab delimiters), .npy (structured, or 2-D with `columns`) or .mat.", ""},
           {"output", "path", "JSON summary to write (atomically): verdict, score, components, suspects and details.", ""},
           {"report", "path", "Report folder (index.html, figures as SVG with their CSV data and gnuplot scripts, summary.json, history).",
            "<output without .json>_report"},
           {"history", "path", "Model history file appended by every run (the report plots the score over model versions).",
            "<report>/history.json"},
           {"label", "string", "Name of this model version in the history and the report.", "the model file's name"},
-          {"columns", "object", "Column names in the files: {\"x\": ..., \"t\": ..., \"u\": ..., \"traj\": ...}.",
-           "{\"x\": \"x\", \"t\": \"t\", \"u\": \"u\", \"traj\": \"traj\"}"},
-          {"dt", "number",
-           "Sampling interval: used for files without a time column, and checked against the time column of the "
-           "others (a record sampled at another interval is an error).",
-           "", true},
-          glitches_key_spec(),
-          {"detrend", "string", "\"mean\": subtract each record's mean from x and u; \"none\": use the data as they are.", "\"none\""},
           {"seed", "integer", "Seed of the twins and refits (results are reproducible and independent of the thread count).", "1"},
           {"replicates", "integer", "Twins per record; 0 chooses enough for at least 2e6 twin samples (1 to 8).", "0"},
           {"bins", "{\"x\", \"v\"}", "Bins of the one-step map over x and the lens velocity v (quantile range of the data).",
@@ -111,16 +106,37 @@ const ConfigSchema& diagnose_schema() {
           {"parameter_draws", "integer", "Refits behind the parameter uncertainty.", "8"},
           {"parameter_fit_samples", "number", "Samples of each refit (the covariance is rescaled to the data size).", "2e6"},
           {"fpk", "bool", "Solve the model's stationary Fokker-Planck equation as a reference curve.", "true"},
-          {"fpk_cells", "integer", "FPK cells per axis.", "160"},
+          {"fpk_cells", "integer", "FPK cells per axis (doubled, up to 800, when they do not resolve the model; the report says so, and a reference that cannot be solved is a warning).", "160"},
           {"check_model_sampling", "bool",
            "Error when the model file says it was identified from data sampled at another interval.", "true"},
+          {"fail_on_inadequate", "bool",
+           "Exit with status 3 when the verdict is inadequate (for scripts; the flag --fail-on-inadequate sets it).",
+           "false"},
       },
       "Outputs: the JSON at `output` (verdict, score, components, suspects; tests with p-values, the one-step "
       "map's worst bins and failure region, quantities, timings), the report folder and the history file. Exit "
-      "status 0 for either verdict, 1 for bad input.\n"
-      "Example: diagnose-vehs data/diagnose/paper.json --set model='\"out/paper/learned.json\"'"};
+      "status 0 for either verdict (3 for inadequate with fail_on_inadequate), 1 for bad input.\n"
+      "Example: diagnose-vehs data/diagnose/paper.json --set model='\"out/paper/learned.json\"'"});
   return schema;
 }
+
+namespace {
+
+/// A copy of the page in <folder>/versions/v<version>.html (the page is self-contained: its
+/// figures are embedded), with the links between versions made relative to that folder.
+void keep_version_page(const std::string& html, const std::string& folder, int version) {
+  std::ifstream in(html, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string page = ss.str();
+  const std::string from = "href=\"versions/", to = "href=\"";
+  for (auto p = page.find(from); p != std::string::npos; p = page.find(from, p + to.size()))
+    page.replace(p, from.size(), to);
+  fs::create_directories(fs::path(folder) / "versions");
+  write_file_atomically((fs::path(folder) / "versions" / ("v" + std::to_string(version) + ".html")).string(), page);
+}
+
+}  // namespace
 
 diagnose::Options diagnose_options(const Config& c) {
   Options o;
@@ -215,44 +231,43 @@ int run_diagnose(Config& c, const AppOptions& app) {
   const std::string label =
       c.has("label") ? c.string("label") : (mv.is_string() ? fs::path(model_file).stem().string() : "inline model");
   // data
-  ReadOptions ro;
-  if (c.has("columns")) {
-    const Config col = c.object("columns", {"x", "t", "u", "traj"});
-    ro.x_column = col.string_or("x", ro.x_column);
-    ro.t_column = col.string_or("t", ro.t_column);
-    ro.u_column = col.string_or("u", ro.u_column);
-    ro.traj_column = col.string_or("traj", ro.traj_column);
-  }
-  if (c.has("dt")) ro.dt = c.positive("dt");
-  ro.require_u = model.uses_drive();
-  ro.read_u = model.uses_drive();
-  ro.min_samples = 16;
+  const bool fail_on_inadequate = c.boolean_or("fail_on_inadequate", false);
   const auto files = c.string_list("data");
-  if (files.empty()) c.fail("data", "lists no file");
-  Dataset data = checked_measurements(c, read_measurements(files, ro));
-  const std::string detrend = c.string_or("detrend", "none");
-  if (detrend == "mean")
-    subtract_record_means(data);
-  else if (detrend != "none")
-    c.fail("detrend", "must be \"none\" or \"mean\" (got \"" + detrend + "\")");
+  const LoadedData loaded = load_measurements(c, model.uses_drive(), app);
+  const Dataset& data = loaded.data;
+  nlohmann::ordered_json units = units_block(c);
+  if (units.empty() && model_file_content.sections.contains("units")) units = model_file_content.sections["units"];
 
   const diagnose::Result r = diagnose::diagnose(model, data, o);
 
   // history, report, JSON
   const auto entries = append_history(history_path, history_entry(model, model_file, label, data, r, model_file_content.sections));
   Report report(folder, "diagnose-vehs: " + label);
-  add_diagnosis_to_report(report, r, label, entries, data_fingerprint(data));
+  const std::string fingerprint = data_fingerprint(data);
+  const int version = entries.back().value("version", 0);
+  std::vector<ReportLink> versions;  // every version's page is kept in <report>/versions/
+  for (const auto& e : entries)
+    if (e.value("data_fingerprint", "") == fingerprint) {
+      const int v = e.value("version", 0);
+      versions.push_back({"version " + std::to_string(v) + ": " + e.value("label", "") + " (" +
+                              e.value("verdict", "") + (v == version ? ", this page)" : ")"),
+                          "versions/v" + std::to_string(v) + ".html"});
+    }
+  add_diagnosis_to_report(report, r, label, entries, fingerprint, units, versions);
   nlohmann::ordered_json j = diagnosis_to_json(r);
   j["model"] = model_file;
   j["label"] = label;
   j["data_files"] = files;
+  j["data_reading"] = read_summary_json(loaded.summary);
+  if (!units.empty()) j["units"] = units;
   j["report"] = folder;
   j["history"] = history_path;
   j["version_in_history"] = entries.back().value("version", 0);
   j["config"] = c.json();
-  j["provenance"] = {{"tool", "diagnose-vehs"}, {"library", "vehs 0.1.0"}};
+  j["provenance"] = {{"tool", "diagnose-vehs"}, {"library", library_version()}};
   write_json_atomically((fs::path(folder) / "summary.json").string(), j);
   const std::string html = report.write_html();
+  keep_version_page(html, folder, version);
   write_json_atomically(output, j);
   if (!app.quiet) {
     std::printf("verdict: %s   score %s (adequate models score about %s)\n", enum_to_string(diagnose::kVerdictNames, r.verdict).c_str(), g(r.score).c_str(),
@@ -276,9 +291,10 @@ int run_diagnose(Config& c, const AppOptions& app) {
                     g(s.p_value, 2).c_str(), g(s.power, 2).c_str(), s.significant ? "  significant" : "");
     }
     for (const auto& w : r.warnings) std::printf("warning: %s\n", w.c_str());
+    std::printf("%s\n", next_step(r).c_str());
     std::printf("report: %s\nsummary: %s\n", html.c_str(), output.c_str());
   }
-  return 0;
+  return fail_on_inadequate && r.verdict == diagnose::Verdict::Inadequate ? 3 : 0;
 }
 
 }  // namespace vehs::tools

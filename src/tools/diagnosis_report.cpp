@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "tools/diagnosis_file.hpp"
+#include "tools/measurement_config.hpp"
 #include "tools/table.hpp"
 #include "vehs/core/detail/format.hpp"
 
@@ -41,32 +42,56 @@ Table curve_table(const Curve& c, const std::string& at_name, bool with_referenc
   return t;
 }
 
+/// Points of a curve beyond which error bars are thinned (dense bars merge into a band).
+constexpr std::size_t kDenseCurve = 60;
+
 /// gnuplot body of a data-vs-twins curve: twin band ±2 se, twin line, data points with error bars.
 std::string band_plot(const std::string& csv, const std::string& title, const std::string& xlabel,
-                      const std::string& ylabel, bool logx, bool logy, const std::string& extra = "") {
+                      const std::string& ylabel, bool logx, bool logy, const std::string& extra = "",
+                      std::size_t points = 0) {
   std::ostringstream os;
   os << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel '" << ylabel << "'\n"
-     << "set key top right\nset grid\n";
+     << "set key below horizontal\nset grid\n";  // the legend under the plot, off the data
   if (logx) os << "set logscale x\n";
-  if (logy) os << "set logscale y\n";
+  if (logy) os << "set logscale y\nset format y '%g'\n";
   const std::string lo = logy ? "($4-2*$5 > 0 ? $4-2*$5 : $4/10)" : "($4-2*$5)";
   os << "plot '" << csv << "' skip 1 using 1:" << lo << ":($4+2*$5) with filledcurves fc rgb '#c6dbef' "
      << "title 'model twins ± 2 se', \\\n"
-     << "  '' skip 1 using 1:4 with lines lw 2 lc rgb '#2171b5' title 'model twins', \\\n"
-     << "  '' skip 1 using 1:2:3 with yerrorbars pt 7 ps 0.4 lc rgb '#cb181d' title 'data ± se'" << extra << "\n";
+     << "  '' skip 1 using 1:4 with lines lw 2 lc rgb '#2171b5' title 'model twins', \\\n";
+  if (points > kDenseCurve) {  // the data as a line, error bars on every k-th point
+    const std::size_t every = (points + kDenseCurve - 1) / (kDenseCurve / 2);
+    os << "  '' skip 1 using 1:2 with lines lw 1.5 lc rgb '#cb181d' title 'data', \\\n"
+       << "  '' skip 1 every " << every << " using 1:2:3 with yerrorbars pt 7 ps 0.5 lc rgb '#cb181d' "
+       << "title 'data ± se (every " << every << "th point)'" << extra << "\n";
+  } else {
+    os << "  '' skip 1 using 1:2:3 with yerrorbars pt 7 ps 0.4 lc rgb '#cb181d' title 'data ± se'" << extra << "\n";
+  }
   return os.str();
 }
 
 }  // namespace
 
+std::string next_step(const diagnose::Result& r) {
+  if (r.adequate()) return "Next step: none needed: the model reproduces the data within their statistical errors.";
+  for (const auto& sp : r.suspects.ranked)
+    if (sp.significant)
+      return "Next step: add " + sp.effect + " to the identify-vehs config (merge " + suspect_add_fragment(sp).dump() +
+             ") and identify again.";
+  return "Next step: no effect of the catalogue explains the misfit; the one-step map below shows where in (x, v) "
+         "the model fails.";
+}
+
 void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const std::string& model_label,
-                             const std::vector<nlohmann::ordered_json>& history, const std::string& fingerprint) {
+                             const std::vector<nlohmann::ordered_json>& history, const std::string& fingerprint,
+                             const nlohmann::json& units, const std::vector<ReportLink>& versions) {
+  auto axis = [&](const std::string& label, const std::string& what) { return with_unit(label, what, units); };
   // ------------------------------------------------------------------ verdict
   {
     auto& s = report.section("Verdict");
+    s.paragraphs.push_back("Model " + model_label + ": " + (r.adequate() ? "ADEQUATE" : "INADEQUATE") + ", score " +
+                           g(r.score) + ". " + next_step(r));
     std::ostringstream p;
-    p << "Model " << model_label << ": " << (r.adequate() ? "ADEQUATE" : "INADEQUATE") << ". Score "
-      << g(r.score) << " (an adequate model scores about " << g(r.score_expected_adequate, 2)
+    p << "Score " << g(r.score) << " (an adequate model scores about " << g(r.score_expected_adequate, 2)
       << " on these components; lower is better; comparable between models fitted to the same data). "
       << "A component fails when its p-value is below " << g(r.threshold, 3)
       << " (family-wise level " << g(r.threshold * static_cast<double>(std::max<std::size_t>(1, r.components.size())), 2)
@@ -91,13 +116,17 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
     }
     s.tables.push_back(t);
     for (const auto& w : r.warnings) s.paragraphs.push_back("Warning: " + w);
+    if (!versions.empty()) {  // (the links follow the paragraphs)
+      s.paragraphs.push_back("The report of every model version diagnosed on these data:");
+      s.links = versions;
+    }
     Table bars({"minus_log10_p", "size"}, "component");
     for (const auto& c : r.components)
       if (c.test.available)
         bars.add_row(label_text(c.name), {std::min(-std::log10(std::max(c.test.p_value, 1e-300)), 300.0), c.test.excess});
     bars.write_csv(report.folder() + "/components.csv");
     std::ostringstream body;
-    body << "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset ylabel '-log10 p'\nset logscale y\n"
+    body << "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset key below horizontal\nset ylabel '-log10 p'\nset logscale y\n"
          << "set yrange [0.01:*]\nset xtics rotate by -30\nset title 'components of the verdict'\n"
          << "plot 'components.csv' skip 1 using 0:($2 > 0.01 ? $2 : 0.01):xtic(1) with boxes lc rgb '#6baed6' "
          << "notitle, " << -std::log10(std::max(r.threshold, 1e-300))
@@ -123,7 +152,8 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
     const double wx = (m.x_hi - m.x_lo) / std::max(m.nx, 1), wv = (m.v_hi - m.v_lo) / std::max(m.nv, 1);
     auto map_body = [&](int col, const std::string& title) {
       std::ostringstream os;
-      os << "set title '" << title << "'\nset xlabel 'x'\nset ylabel 'v (lens velocity)'\n" << kDiverging
+      os << "set title '" << title << "'\nset xlabel '" << axis("x", "x") << "'\nset ylabel '"
+         << axis("v (lens velocity)", "v") << "'\n" << kDiverging
          << "set cblabel 'z (clipped at ±5)'\nset xrange [" << m.x_lo << ":" << m.x_hi << "]\nset yrange [" << m.v_lo
          << ":" << m.v_hi << "]\nset size ratio 0.75\n"
          << "plot 'one_step_map.csv' skip 1 using 1:2:($14 > 0 ? ($" << col << " > 5 ? 5 : ($" << col
@@ -157,10 +187,10 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
     report.add_figure(s, "one_step_profile",
                       "Where along v (left) and x (right) the misfit sits: mean z² of the residual mean and "
                       "log-variance over the bins of each column / row. About 1 (dashed) for an adequate model.",
-                      "set multiplot layout 1,2\nset grid\nset key top left\nset ylabel 'mean z^2'\n"
-                      "set xlabel 'v'\nplot 'one_step_profile_v.csv' skip 1 using 1:2 with linespoints pt 7 title "
+                      "set multiplot layout 1,2\nset grid\nset key below\nset ylabel 'mean z^2'\n"
+                      "set xlabel '" + axis("v", "v") + "'\nplot 'one_step_profile_v.csv' skip 1 using 1:2 with linespoints pt 7 title "
                       "'residual mean', '' skip 1 using 1:3 with linespoints pt 5 title 'residual variance', 1 "
-                      "with lines dt 2 lc rgb 'black' notitle\nset xlabel 'x'\nplot 'one_step_profile_x.csv' skip 1 "
+                      "with lines dt 2 lc rgb 'black' notitle\nset xlabel '" + axis("x", "x") + "'\nplot 'one_step_profile_x.csv' skip 1 "
                       "using 1:2 with linespoints pt 7 title 'residual mean', '' skip 1 using 1:3 with linespoints "
                       "pt 5 title 'residual variance', 1 with lines dt 2 lc rgb 'black' notitle\nunset multiplot");
     ReportTable wt;
@@ -184,12 +214,14 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
                       "The lens itself correlates neighbouring residuals (central kinematics: +1/4 at the stride), so "
                       "compare with the band, not with zero: data above the band at longer lags mean memory the model "
                       "lacks (coloured excitation, a hidden electrical state).",
-                      band_plot("residual_acf.csv", "residual autocorrelation", "lag", "autocorrelation", false, false));
+                      band_plot("residual_acf.csv", "residual autocorrelation", axis("lag", "t"), "autocorrelation", false, false,
+                                "", r.residual_acf.at.size()));
     curve_table(r.residual_psd, "frequency", false).write_csv(report.folder() + "/residual_psd.csv");
     report.add_figure(s, "residual_psd",
                       "Power spectrum of the whitened residuals (cycles per time unit), data vs twins. A line the band "
                       "lacks is periodic forcing; excess at low frequency is slow memory.",
-                      band_plot("residual_psd.csv", "residual spectrum", "frequency", "PSD", true, true));
+                      band_plot("residual_psd.csv", "residual spectrum", axis("frequency", "f"),
+                                axis("PSD of the whitened residuals", "t"), true, true, "", r.residual_psd.at.size()));
   }
 
   // ------------------------------------------------------------------ stationary statistics
@@ -203,9 +235,9 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
                       "reference only: records that start out of equilibrium differ from it, twins do not)." : ".") +
                       " Hellinger distance data vs twins " + g(r.hellinger_px, 3) +
                       (r.hellinger_px_null >= 0 ? " (twin vs twin: " + g(r.hellinger_px_null, 3) + ")" : "") + ".",
-                      band_plot("px.csv", "p(x)", "x", "density", false, false,
+                      band_plot("px.csv", "p(x)", axis("x", "x"), axis("density", "1/x"), false, false,
                                 fpk ? ", \\\n  '' skip 1 using 1:6 with lines dt 2 lw 2 lc rgb 'black' title 'FPK (stationary)'"
-                                    : ""));
+                                    : "", r.px.at.size()));
     Table pxy({"x", "v", "p_data", "p_twin"});
     const double dx = (r.pxy_x_hi - r.pxy_x_lo) / std::max(r.pxy_nx, 1), dv = (r.pxy_v_hi - r.pxy_v_lo) / std::max(r.pxy_nv, 1);
     double pmax = 0.0;
@@ -218,7 +250,7 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
     pxy.write_csv(report.folder() + "/pxy.csv");
     std::ostringstream body;
     body << "set multiplot layout 1,2\nset palette rgbformulae 33,13,10\nset cbrange [0:" << (pmax > 0 ? pmax : 1)
-         << "]\nset xlabel 'x'\nset ylabel 'v'\nset xrange [" << r.pxy_x_lo << ":" << r.pxy_x_hi << "]\nset yrange ["
+         << "]\nset xlabel '" << axis("x", "x") << "'\nset ylabel '" << axis("v", "v") << "'\nset xrange [" << r.pxy_x_lo << ":" << r.pxy_x_hi << "]\nset yrange ["
          << r.pxy_v_lo << ":" << r.pxy_v_hi << "]\nset title 'data'\nplot 'pxy.csv' skip 1 using 1:2:3 with image "
          << "pixels notitle\nset title 'model twins'\nplot 'pxy.csv' skip 1 using 1:2:4 with image pixels notitle\n"
          << "unset multiplot";
@@ -248,7 +280,7 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
                       "Stationary quantities (power and wells components): paired z of data minus model twins per "
                       "quantity (bars, clipped at ±20); dashed: ±3. A mean power (E[v^2]) or well occupancy the model "
                       "does not reproduce stands out here.",
-                      "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset ylabel 'z (data - twins)'\n"
+                      "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset key below horizontal\nset ylabel 'z (data - twins)'\n"
                       "set xtics rotate by -30\nset title 'stationary quantities'\nplot 'quantities.csv' skip 1 using "
                       "0:2:xtic(1) with boxes lc rgb '#fd8d3c' notitle, 3 with lines dt 2 lc rgb 'black' title '|z| = 3', "
                       "-3 with lines dt 2 lc rgb 'black' notitle, 0 with lines lc rgb 'gray' notitle");
@@ -266,12 +298,14 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
     report.add_figure(s, "x_acf",
                       "Autocorrelation of x (lag in time units): data (points ± se over units) vs model twins (band ± 2 "
                       "se). Neighbouring lags are strongly correlated: read the shape, the test uses spectral bands.",
-                      band_plot("x_acf.csv", "autocorrelation of x", "lag", "autocorrelation", false, false));
+                      band_plot("x_acf.csv", "autocorrelation of x", axis("lag", "t"), "autocorrelation", false, false, "",
+                                r.x_acf.at.size()));
     curve_table(r.x_psd, "frequency", false).write_csv(report.folder() + "/x_psd.csv");
     report.add_figure(s, "x_psd",
                       "Power spectrum of x (cycles per time unit; x block-averaged before the FFT, identically for both "
                       "sides): data vs model twins. The acf component compares log-spaced bands of it.",
-                      band_plot("x_psd.csv", "power spectrum of x", "frequency", "PSD", true, true));
+                      band_plot("x_psd.csv", "power spectrum of x", axis("frequency", "f"), axis("PSD of x", "psd_x"), true,
+                                true, "", r.x_psd.at.size()));
   }
 
   // ------------------------------------------------------------------ suspects
@@ -307,7 +341,7 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
       report.add_figure(s, "suspects",
                         "Held-out z of every tested effect (bars); dashed: the significance threshold. Bars below "
                         "zero: the effect predicts held-out data worse than the model without it.",
-                        "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset ylabel 'held-out z'\n"
+                        "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset key below horizontal\nset ylabel 'held-out z'\n"
                         "set xtics rotate by -30\nset title 'suspects'\nplot 'suspects.csv' skip 1 using 0:2:xtic(1) "
                         "with boxes lc rgb '#6baed6' notitle, 3 with lines dt 2 lc rgb 'black' title 'threshold', 0 "
                         "with lines lc rgb 'gray' notitle");
@@ -372,12 +406,14 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
     h.write_csv(report.folder() + "/history.csv");
     report.add_figure(s, "history",
                       "Score of every model version diagnosed on these same data (lower is better; red: inadequate). "
-                      "Adding a missing effect should bring the score down toward the level of an adequate model.",
-                      "set grid\nset xlabel 'model version'\nset ylabel 'score'\nset key top right\nset offsets 0.3, "
-                      "0.3, 0, 0\nset xtics 1\nset yrange [0:*]\nplot 'history.csv' skip 1 using 2:3 with linespoints "
+                      "Adding a missing effect should bring the score down toward the level of an adequate model "
+                      "(dashed: the score an adequate model reaches, about " + g(r.score_expected_adequate, 2) + ").",
+                      "set grid\nset xlabel 'model version'\nset ylabel 'score'\nset key below horizontal\nset offsets "
+                      "0.3, 0.3, 0, 0\nset xtics 1\nset yrange [0:*]\nplot 'history.csv' skip 1 using 2:3 with linespoints "
                       "pt 7 ps 1.2 lc rgb '#2171b5' title 'score', '' skip 1 using 2:($4 > 0 ? $3 : NaN) with points "
-                      "pt 7 ps 1.6 lc rgb '#cb181d' title 'inadequate', '' skip 1 using 2:3:1 with labels offset 0,1 "
-                      "font ',9' notitle");
+                      "pt 7 ps 1.6 lc rgb '#cb181d' title 'inadequate', " + g(r.score_expected_adequate, 4) +
+                      " with lines dt 2 lw 2 lc rgb '#238b45' title 'adequate (about " + g(r.score_expected_adequate, 2) +
+                      ")', '' skip 1 using 2:3:1 with labels offset 0,1 font ',9' notitle");
     s.tables.push_back(t);
   }
 

@@ -13,8 +13,15 @@ namespace vehs::tools {
 
 /// Adds the sections of `result` to `report`. `history` are the entries of the model history
 /// (history.hpp); those with the fingerprint `fingerprint` are plotted as the score over model
-/// versions. `model_label` names the diagnosed model.
+/// versions. `model_label` names the diagnosed model; `units` is the data's units block (axis
+/// labels; may be empty); `versions` link the kept reports of every model version.
 void add_diagnosis_to_report(Report& report, const diagnose::Result& result, const std::string& model_label,
-                             const std::vector<nlohmann::ordered_json>& history, const std::string& fingerprint);
+                             const std::vector<nlohmann::ordered_json>& history, const std::string& fingerprint,
+                             const nlohmann::json& units = nlohmann::json::object(),
+                             const std::vector<ReportLink>& versions = {});
+
+/// The one-line next step of a diagnosis: what to change in the identify config (the top
+/// suspect's `add` fragment), or that nothing needs to change.
+std::string next_step(const diagnose::Result& result);
 
 }  // namespace vehs::tools

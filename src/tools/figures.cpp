@@ -25,9 +25,9 @@ std::string render_figure(const std::string& dir, const std::string& name, const
   std::ostringstream script;
   if (format == "svg")
     script << "set terminal svg size " << width << "," << height
-           << " dynamic enhanced font 'sans,12' background rgb 'white'\n";
+           << " dynamic noenhanced font 'sans,12' background rgb 'white'\n";  // labels as written
   else
-    script << "set terminal pngcairo size " << width << "," << height << " enhanced font 'sans,11'\n";
+    script << "set terminal pngcairo size " << width << "," << height << " noenhanced font 'sans,11'\n";
   script << "set output '" << out << "'\nset datafile separator ','\n" << body << "\n";
   write_file_atomically((fs::path(dir) / (name + ".gp")).string(), script.str());
   if (!gnuplot_available()) {

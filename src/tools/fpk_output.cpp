@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "tools/figures.hpp"
+#include "tools/measurement_config.hpp"
 #include "tools/table.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/io/atomic_file.hpp"
@@ -80,7 +81,8 @@ nlohmann::ordered_json result_to_json(const StationaryResult& r) {
   j["grid"] = {{"x", axis_json(r.grid.x)},
                {"y", axis_json(r.grid.y)},
                {"automatic", r.auto_domain},
-               {"enlargements", r.domain_enlargements}};
+               {"enlargements", r.domain_enlargements},
+               {"refinements", r.refinements}};
   auto wells = nlohmann::ordered_json::array();
   for (const auto& w : r.wells)
     wells.push_back({{"x_min", w.x_min}, {"U", w.potential}, {"range", {w.lo, w.hi}}, {"mass", w.mass}});
@@ -167,9 +169,23 @@ nlohmann::ordered_json sweep_to_json(const SweepResult& sw) {
 // ---- figures --------------------------------------------------------------------------------
 
 std::vector<std::string> density_figures(const std::string& dir, const FpkModel& model,
-                                         const StationaryResult& r) {
+                                         const StationaryResult& r, const nlohmann::json& units) {
   std::vector<std::string> out;
   const Grid& g = r.grid;
+  const std::string xl = with_unit("x", "x", units), yl = with_unit("y", "v", units);
+  // the region where the density exceeds 1e-4 of its peak, padded by 5 %
+  double peak = 0.0;
+  for (double p : r.density) peak = std::max(peak, p);
+  int ilo = g.x.n, ihi = -1, jlo = g.y.n, jhi = -1;
+  for (int i = 0; i < g.x.n; ++i)
+    for (int j = 0; j < g.y.n; ++j)
+      if (r.density[g.index(i, j)] > 1e-4 * peak) ilo = std::min(ilo, i), ihi = std::max(ihi, i), jlo = std::min(jlo, j), jhi = std::max(jhi, j);
+  double x0 = g.x.min, x1 = g.x.max, y0 = g.y.min, y1 = g.y.max;
+  if (ihi >= ilo && jhi >= jlo) {
+    const double px = 0.05 * (g.x.center(ihi) - g.x.center(ilo)), py = 0.05 * (g.y.center(jhi) - g.y.center(jlo));
+    x0 = std::max(g.x.min, g.x.center(ilo) - px), x1 = std::min(g.x.max, g.x.center(ihi) + px);
+    y0 = std::max(g.y.min, g.y.center(jlo) - py), y1 = std::min(g.y.max, g.y.center(jhi) + py);
+  }
   // Heat map data: block averages down to at most 200 × 200 points, one x block per paragraph.
   const int bx = std::max(1, (g.x.n + 199) / 200), by = std::max(1, (g.y.n + 199) / 200);
   write_file_atomically(dir + "/density_map.csv", [&](std::ostream& os) {
@@ -188,16 +204,18 @@ std::vector<std::string> density_figures(const std::string& dir, const FpkModel&
   });
   std::ostringstream heat;
   heat << "set title 'stationary density p(x, y) (" << r.summary.scheme << ", " << g.x.n << "x" << g.y.n
-       << " cells)'\nset xlabel 'x'\nset ylabel 'y'\nset view map\nset pm3d map interpolate 0,0\n"
-          "set palette rgb 33,13,10\nset cbrange [0:*]\nset xrange [" << g.x.min << ":" << g.x.max << "]\nset yrange ["
-       << g.y.min << ":" << g.y.max << "]\nset key off\n"
+       << " cells; shown where p > 1e-4 of its peak)'\nset xlabel '" << xl << "'\nset ylabel '" << yl
+       << "'\nset view map\nset pm3d map interpolate 0,0\n"
+          "set palette rgb 33,13,10\nset cbrange [0:*]\nset xrange [" << x0 << ":" << x1 << "]\nset yrange ["
+       << y0 << ":" << y1 << "]\nset key off\n"
           "splot 'density_map.csv' skip 1 using 1:2:3 with pm3d\n";
   if (auto f = render_figure(dir, "density_map", heat.str()); !f.empty()) out.push_back(f);
   // Marginals with the potential and the wells.
   write_marginals(dir + "/marginal_x.csv", dir + "/marginal_y.csv", model, r);
   std::ostringstream mx;
-  mx << "set multiplot layout 1,2\nset title 'p(x) and the potential U(x)'\nset xlabel 'x'\n"
-        "set ylabel 'p(x)'\nset y2label 'U(x)'\nset ytics nomirror\nset y2tics\nset key top left\n";
+  mx << "set multiplot layout 1,2\nset title 'p(x) and the potential U(x)'\nset xlabel '" << xl << "'\n"
+        "set ylabel '" << with_unit("p(x)", "1/x", units) << "'\nset y2label '" << with_unit("U(x)", "v2", units)
+     << "'\nset ytics nomirror\nset y2tics\nset key below horizontal\n";
   for (const auto& w : r.wells)
     if (w.lo > g.x.min) mx << "set arrow from " << w.lo << ", graph 0 to " << w.lo << ", graph 1 nohead dt 3 lc rgb 'gray'\n";
   double umin = 1e300;
@@ -210,7 +228,7 @@ std::vector<std::string> density_figures(const std::string& dir, const FpkModel&
   mx << "set y2range [" << umin - 0.05 * span << ":" << umin + span << "]\n";
   mx << "plot 'marginal_x.csv' skip 1 using 1:2 with lines lw 2 title 'p(x)', "
         "'' skip 1 using 1:3 axes x1y2 with lines dt 2 title 'U(x)'\n"
-        "unset arrow\nset title 'p(y)'\nset xlabel 'y'\nset ylabel 'p(y)'\nunset y2label\nunset y2tics\n"
+        "unset arrow\nset title 'p(y)'\nset xlabel '" << yl << "'\nset ylabel 'p(y)'\nunset y2label\nunset y2tics\n"
         "set ytics mirror\nplot 'marginal_y.csv' skip 1 using 1:2 with lines lw 2 title 'p(y)'\n"
         "unset multiplot\n";
   if (auto f = render_figure(dir, "marginals", mx.str(), "svg", 1100, 480); !f.empty()) out.push_back(f);

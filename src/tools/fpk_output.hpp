@@ -29,8 +29,11 @@ nlohmann::ordered_json sweep_to_json(const fpk::SweepResult& sweep);
 
 /// Figures (SVG) into `dir`; each with its data CSV and .gp script beside it. Returns the paths
 /// of the rendered figures (empty entries are skipped when gnuplot is missing).
+/// `units`: the model file's units block (axis labels). The heat map shows the region where the
+/// density exceeds 1e-4 of its peak (the automatic domain reaches far into the tails).
 std::vector<std::string> density_figures(const std::string& dir, const fpk::FpkModel& model,
-                                         const fpk::StationaryResult& result);
+                                         const fpk::StationaryResult& result,
+                                         const nlohmann::json& units = nlohmann::json::object());
 std::vector<std::string> sweep_figures(const std::string& dir, const fpk::SweepResult& sweep);
 
 }  // namespace vehs::tools

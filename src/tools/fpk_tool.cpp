@@ -5,6 +5,8 @@
 #include <iostream>
 
 #include "tools/fpk_output.hpp"
+#include "tools/power.hpp"
+#include "vehs/core/detail/format.hpp"
 #include "vehs/conventions.hpp"
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
@@ -38,7 +40,10 @@ ConfigSchema make_schema() {
       {"grid", "object", "{\"x\": [min, max, n] or n, \"y\": [min, max, n] or n}. An axis given as a "
                          "number n (or omitted) gets an automatic range from the potential and the "
                          "noise, widened until at most boundary_mass_tolerance of the mass is in its "
-                         "edge cells; a given range that holds more is an error.",
+                         "edge cells; a given range that holds more is an error. Cells that do not "
+                         "resolve the model (an undershooting density, or boundary mass that does not "
+                         "fall as the domain widens) are doubled on automatic axes up to 800 per "
+                         "axis (grid.refinements in the output), else the error names the cells needed.",
        "{\"x\": 400, \"y\": 400}"},
       {"scheme", "string", "flux: conservative finite volumes, 4th-order x-flux, 2nd-order y "
                            "(default; mass conserved exactly, L1 error 1.3e-4 at 400x400 on the exact "
@@ -72,6 +77,7 @@ ConfigSchema make_schema() {
       {"density", "path", "Density file: .npy (float64, shape (nx, ny)) or CSV (x,y,p). Marginals "
                           "go beside it as <stem>.marginal_x.csv (x,p,U) and <stem>.marginal_y.csv.",
        "<output stem>.density.csv"},
+      harvester_key(),
       {"figures", "path", "Folder for SVG figures (density heat map, marginals with the potential and "
                           "well boundaries, sweep curves or surfaces), each with its data and gnuplot "
                           "script.", "", true},
@@ -252,7 +258,10 @@ int run_fpk(Config& cfg, const AppOptions& app) {
   out["marginal_y_file"] = dstem + ".marginal_y.csv";
   auto figures = nlohmann::ordered_json::array();
   if (cfg.has("figures"))
-    for (const auto& f : density_figures(cfg.string("figures"), fm, res)) figures.push_back(f);
+    for (const auto& f : density_figures(cfg.string("figures"), fm, res,
+                                         model_file.sections.contains("units") ? nlohmann::json(model_file.sections["units"])
+                                                                               : nlohmann::json::object()))
+      figures.push_back(f);
   if (!axes.empty()) {
     SweepOptions so;
     so.solve = opt;
@@ -278,12 +287,27 @@ int run_fpk(Config& cfg, const AppOptions& app) {
       for (const auto& f : sweep_figures(cfg.string("figures"), sw)) figures.push_back(f);
   }
   if (cfg.has("figures")) out["figures"] = figures;
+  const nlohmann::json units = model_file.sections.contains("units") ? nlohmann::json(model_file.sections["units"])
+                                                                      : nlohmann::json::object();
+  nlohmann::json harvester = harvester_block(cfg);
+  if (harvester.empty() && model_file.sections.contains("harvester")) harvester = model_file.sections["harvester"];
+  const MeanPower power = mean_power(res.moments.eyy, units, harvester);
+  out["mean_power"] = {{"watts", power.available ? nlohmann::json(power.watts) : nlohmann::json(nullptr)},
+                       {"how", power.formula}};
+  if (!units.empty()) out["units"] = units;
   out["model"] = model_to_json(model, model_file.sections);
   write_json_atomically(output, out);
   if (!app.quiet)
     std::cerr << "fpk-stationary: E[X^2] = " << res.moments.exx << ", E[Y^2] = " << res.moments.eyy
               << ", boundary mass " << res.boundary_mass << " on " << res.grid.x.n << "x"
-              << res.grid.y.n << " cells (" << res.summary.solve_seconds << " s) -> " << output << "\n";
+              << res.grid.y.n << " cells"
+              << (res.refinements > 0 ? " (refined " + std::to_string(res.refinements) +
+                                            " time(s): the requested grid did not resolve the model)"
+                                      : std::string())
+              << " (" << res.summary.solve_seconds << " s) -> " << output << "\n"
+              << (power.available ? "fpk-stationary: mean power " + vehs::detail::format_number(power.watts, 4) + " W (" +
+                                        power.formula + ")\n"
+                                  : std::string());
   return 0;
 }
 

@@ -74,14 +74,14 @@ caption { caption-side: top; text-align: left; font-weight: 600; padding-bottom:
 .missing { color: #a00; font-style: italic; }
 )CSS";
 
-// After load: count figures that decoded, and publish the count for automated checks.
+// After load: count figures that decoded into an attribute of the page (not shown) for
+// automated checks.
 const char* kCheckScript = R"JS(
 window.addEventListener('load', function () {
   var imgs = document.querySelectorAll('figure img');
   var ok = 0;
   imgs.forEach(function (im) { if (im.complete && im.naturalWidth > 0) ok++; });
-  var s = document.getElementById('figure-status');
-  s.textContent = 'figures-loaded: ' + ok + '/' + imgs.length;
+  document.documentElement.setAttribute('data-figures-loaded', ok + '/' + imgs.length);
 });
 )JS";
 
@@ -90,7 +90,7 @@ window.addEventListener('load', function () {
 ReportSection& Report::section(const std::string& title) {
   for (auto& s : sections_)
     if (s.title == title) return s;
-  sections_.push_back(ReportSection{title, {}, {}, {}});
+  sections_.push_back(ReportSection{title, {}, {}, {}, {}});
   return sections_.back();
 }
 
@@ -120,6 +120,12 @@ std::string Report::write_html() const {
   for (const auto& s : sections_) {
     h << "<h2>" << html_escape(s.title) << "</h2>\n";
     for (const auto& p : s.paragraphs) h << "<p>" << html_escape(p) << "</p>\n";
+    if (!s.links.empty()) {
+      h << "<ul>";
+      for (const auto& l : s.links)
+        h << "<li><a href=\"" << html_escape(l.href) << "\">" << html_escape(l.text) << "</a></li>";
+      h << "</ul>\n";
+    }
     for (const auto& t : s.tables) {
       h << "<table>";
       if (!t.caption.empty()) h << "<caption>" << html_escape(t.caption) << "</caption>";
@@ -148,8 +154,7 @@ std::string Report::write_html() const {
         << ".svg, " << html_escape(f.name) << ".gp, data " << html_escape(f.name) << "*.csv]</span></figcaption></figure>\n";
     }
   }
-  h << "<p id=\"figure-status\" style=\"color:#999;font-size:.8em\">figures-loaded: pending</p>\n<script>"
-    << kCheckScript << "</script>\n</body></html>\n";
+  h << "<script>" << kCheckScript << "</script>\n</body></html>\n";
   const std::string path = (fs::path(folder_) / "index.html").string();
   write_file_atomically(path, h.str());
   return path;

@@ -23,9 +23,14 @@ struct ReportTable {
   std::vector<std::size_t> highlight;
 };
 
+struct ReportLink {
+  std::string text, href;  ///< href relative to the page
+};
+
 struct ReportSection {
   std::string title;
   std::vector<std::string> paragraphs;  ///< plain text (escaped on output)
+  std::vector<ReportLink> links;        ///< a list of links after the paragraphs
   std::vector<ReportTable> tables;
   std::vector<ReportFigure> figures;
 };

@@ -14,6 +14,8 @@
 #include "tools/identify_file.hpp"
 #include "tools/likelihood_refinement.hpp"
 #include "vehs/likelihood/signals.hpp"
+#include "tools/identify_figures.hpp"
+#include "tools/measurement_config.hpp"
 #include "tools/study_output.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/identify/dynamic.hpp"
@@ -162,7 +164,7 @@ void print_refinement(const Refinement& f) {
 }  // namespace
 
 const ConfigSchema& identify_schema() {
-  static const ConfigSchema schema{
+  static const ConfigSchema schema = with_keys_after("output", measurement_keys(), ConfigSchema{
       "identify-vehs",
       "Identifies the drift b2(x, y) and diffusion a22(x) of dX = Y dt, dY = b2 dt + sqrt(a22) dB "
       "from displacement records, with a standard error for every coefficient, and writes a model "
@@ -170,27 +172,24 @@ const ConfigSchema& identify_schema() {
       "seed paper's Table 4): simulate, identify, tabulate mean (sd) per parameter.",
       {
           {"data", "path | [paths]",
-           "Measurement files (CSV with t, x [, traj, u] columns, or structured .npy). Required "
-           "unless `study` is given.",
+           "Measurement files: CSV (t, x [, traj, u] columns; `#` comments, `,` `;` or tab "
+           "delimiters), .npy (structured, or 2-D with `columns`) or .mat. Required unless `study` "
+           "is given.",
            "", true},
           {"output", "path",
            "Model file to write (JSON, atomically). In study mode: the study's JSON; a CSV table "
            "is written beside it (same name, .csv).",
            ""},
-          {"columns", "object",
-           "Column names in the files: {\"x\": ..., \"t\": ..., \"u\": ..., \"traj\": ...}, e.g. "
-           "{\"x\": \"V2\", \"u\": \"V1\"} for the Silverbox data.",
-           "{\"x\": \"x\", \"t\": \"t\", \"u\": \"u\", \"traj\": \"traj\"}"},
-          {"dt", "number", "Sampling interval for files without a time column.", "", true},
           {"samples", "[first, last]",
            "Use only samples [first, last) of the data (one record; applied after detrend, so "
            "that the offsets are those of the whole record), e.g. the estimation part of a "
            "benchmark split.",
            "", true},
-          {"detrend", "string",
-           "\"mean\": subtract each record's mean from x and u (DC offsets of real sensors); "
-           "\"none\": use the data as they are.",
-           "\"none\""},
+          {"figures", "path",
+           "Folder for the figure of the fit (identify_fit.svg with its CSVs and gnuplot script): the drift "
+           "as a force vs x at y = 0 and vs y at x = 0, the potential and the diffusion, each with a 95 % band "
+           "from the covariance of the estimates and binned Kramers-Moyal estimates from the data.",
+           "", true},
           {"drift_library", "{\"K1\", \"K2\"} | [terms] | \"paper\"",
            "Drift dictionary: the paper's Eq. 11 [1, x, ..., x^(K1-1), y, x y, ..., x^(K2-1) y], "
            "or an explicit list of term names (\"x^3\", \"x^2*y\", \"y^3\", \"sign(y)\", "
@@ -235,7 +234,7 @@ const ConfigSchema& identify_schema() {
            "\"bic\""},
           {"folds", "integer", "Cross-validation folds: contiguous time blocks of every record (at most 1000 and at "
            "most one per 100 samples of the data).", "10"},
-          {"stlsq_threshold", "number", "STLSQ: |coef| threshold (coefficient units).", "0.05"},
+          {"stlsq_threshold", "number", "STLSQ: |coef| threshold on the coefficients of the data scaled to O(1) by powers of ten (see units).", "0.05"},
           {"se_block", "integer",
            "Rows per batch of the batch-means covariance behind the standard errors (0: "
            "automatic, >= 1024 and >= 50x the residual correlation range).",
@@ -248,7 +247,6 @@ const ConfigSchema& identify_schema() {
            "automatic stride aims at (higher: smaller stride, less discretisation bias, more "
            "variance).",
            "0.95"},
-          glitches_key_spec(),
           {"study", "object",
            "Consistency study instead of identification: {\"truth\": model or path, \"dt\": "
            "number or list, \"samples\": number or list (per record; the grid is dt x samples), "
@@ -258,13 +256,14 @@ const ConfigSchema& identify_schema() {
            "of the nominal 95 % intervals.",
            "", true},
       },
-      "Outputs: the model file holds drift, diffusion, stderr and the extra keys estimator, "
-      "sampling (how the data were sampled), residuals, selection (the whole sparse-regression "
-      "path with BIC and CV figures), fit, data and provenance; after a likelihood refinement also "
-      "likelihood (measurement noise, record phases, log-likelihood, BIC, covariance) and "
-      "estimator.input, and stdout says why the likelihood was or was not used.\n"
+      "Outputs: the model file holds drift, diffusion, stderr, covariance (of the estimates: "
+      "parameter names and matrix) and the extra keys units, estimator, sampling (how the data "
+      "were sampled), residuals, selection (the whole sparse-regression path with BIC and CV "
+      "figures), fit, data (with the reading summary: gaps, missing runs, time jitter) and "
+      "provenance. A standard error that cannot be computed is an error naming the parameter.\n"
       "Examples: identify-vehs data/paper/identify.json (the paper's data, default settings); "
-      "identify-vehs data/identify/table4.json (the paper's Table 4 as a study)."};
+      "identify-vehs data/identify/table4.json (the paper's Table 4 as a study); "
+      "identify-vehs data/own_data/identify.json (a logger's CSV in mm and s)."});
   return schema;
 }
 
@@ -330,23 +329,6 @@ identify::Options identify_options(const Config& c) {
   return o;
 }
 
-ReadOptions identify_read_options(const Config& c, bool need_u) {
-  ReadOptions r;
-  if (c.has("columns")) {
-    const Config col = c.object("columns", {"x", "t", "u", "traj"});
-    r.x_column = col.string_or("x", r.x_column);
-    r.t_column = col.string_or("t", r.t_column);
-    r.u_column = col.string_or("u", r.u_column);
-    r.traj_column = col.string_or("traj", r.traj_column);
-  }
-  if (c.has("dt")) r.dt = c.positive("dt");
-  r.require_u = need_u;
-  r.read_u = need_u;
-  r.read_y = false;
-  r.min_samples = 16;
-  return r;
-}
-
 identify::StudyOptions study_options(const Config& c) {
   const Config s = c.object("study", {"truth", "dt", "samples", "repeats", "records", "scheme",
                                       "substeps", "x0", "seed", "sensor_noise", "burn_in"});
@@ -399,17 +381,14 @@ int run_identify(Config& c, const AppOptions& app) {
   lik.options.progress = !app.quiet;
   bool need_u = false;
   for (const auto& t : o.drift_library) need_u = need_u || t.depends_on_u();
-  const ReadOptions ro = identify_read_options(c, need_u);
+  const nlohmann::ordered_json units = units_block(c);
   const auto files = c.string_list("data");
-  Dataset data = checked_measurements(c, read_measurements(files, ro));
+  LoadedData loaded = load_measurements(c, need_u, app);
+  Dataset& data = loaded.data;
+  const std::string& detrend = loaded.detrend;
   if (static_cast<std::size_t>(o.folds) * 100 > data.total_samples())
     c.fail("folds", "= " + std::to_string(o.folds) + " leaves fewer than 100 samples per fold (the data have " +
                         std::to_string(data.total_samples()) + ")");
-  const std::string detrend = c.string_or("detrend", "none");
-  if (detrend == "mean")
-    subtract_record_means(data);
-  else if (detrend != "none")
-    c.fail("detrend", "must be \"none\" or \"mean\" (got \"" + detrend + "\")");
   if (c.has("samples")) data = sample_range(c, data);
   identify::Result r = identify::identify(data, o);
   Options quiet = o;
@@ -428,10 +407,17 @@ int run_identify(Config& c, const AppOptions& app) {
   ds["duration"] = duration;
   ds["x_range"] = {xmin, xmax};
   ds["detrend"] = detrend;
+  ds["reading"] = read_summary_json(loaded.summary);
   nlohmann::ordered_json sections = identify_report_sections(r);
+  if (!units.empty()) sections["units"] = units;
   sections["data"] = ds;
-  sections["provenance"] = {{"tool", "identify-vehs"}, {"library", "vehs 0.1.0"}, {"config", c.json()}};
+  sections["provenance"] = {{"tool", "identify-vehs"}, {"library", library_version()}, {"config", c.json()}};
   validate_model(r.model, output);
+  std::string figure;
+  if (c.has("figures")) {
+    figure = identify_figure(c.string("figures"), r.model, data, units);
+    sections["figure"] = figure;
+  }
   write_model_file(output, r.model, sections);
   if (!app.quiet) {
     std::printf("estimator: %s (stride %d; %s)\n", enum_to_string(kEstimatorNames, r.model.fit->estimator).c_str(),
@@ -442,6 +428,7 @@ int run_identify(Config& c, const AppOptions& app) {
                   p.stderr_ ? g(*p.stderr_, 3).c_str() : "");
     print_refinement(refinement);
     std::printf("%zu rows in %.2f s; model written to %s\n", r.report.fit.rows, r.report.fit.seconds, output.c_str());
+    if (!figure.empty()) std::printf("figure: %s\n", figure.c_str());
   }
   return 0;
 }

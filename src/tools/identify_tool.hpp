@@ -16,9 +16,6 @@ const ConfigSchema& identify_schema();
 /// Options of the estimator from a config (libraries, effects, estimator, sparsity...).
 identify::Options identify_options(const Config& c);
 
-/// Reading options (columns, dt) from a config.
-ReadOptions identify_read_options(const Config& c, bool need_u);
-
 /// Study options from the config's `study` object.
 identify::StudyOptions study_options(const Config& c);
 

@@ -4,6 +4,8 @@
 #include <memory>
 #include <string>
 
+#include <unistd.h>
+
 namespace vehs::tools {
 
 namespace {
@@ -11,6 +13,8 @@ namespace {
 struct Display {
   std::string task;
   double last = -1.0;  ///< seconds of the last line printed for `task`
+  bool terminal = isatty(fileno(stderr)) != 0;
+  double interval = terminal ? 0.5 : 5.0;  ///< seconds between updates (a log gets fewer lines)
 
   void operator()(const ProgressEvent& e) {
     if (e.task != task) {
@@ -18,18 +22,18 @@ struct Display {
       last = -1.0;
     }
     if (e.finished) {
-      if (e.seconds > 0.5) print(e, "\n");
+      if (e.seconds > 0.5) print(e, terminal ? "\n" : " done\n");
       return;
     }
-    if (e.seconds - last < 0.5 && last >= 0.0) return;
-    if (last < 0.0 && e.seconds < 0.5) return;
+    if (e.seconds - last < interval && last >= 0.0) return;
+    if (last < 0.0 && e.seconds < interval) return;
     last = e.seconds;
-    print(e, "");
+    print(e, terminal ? "" : "\n");
   }
-  static void print(const ProgressEvent& e, const char* end) {
-    std::fprintf(stderr, "\r[%.*s] %lld/%lld (%.0f%%) %.1f s%s", static_cast<int>(e.task.size()), e.task.data(),
-                 e.done, e.total, 100.0 * static_cast<double>(e.done) / static_cast<double>(e.total), e.seconds,
-                 end);
+  void print(const ProgressEvent& e, const char* end) const {
+    std::fprintf(stderr, "%s[%.*s] %lld/%lld (%.0f%%) %.1f s%s", terminal ? "\r" : "",
+                 static_cast<int>(e.task.size()), e.task.data(), e.done, e.total,
+                 100.0 * static_cast<double>(e.done) / static_cast<double>(e.total), e.seconds, end);
     std::fflush(stderr);
   }
 };

@@ -70,18 +70,20 @@ TEST_CASE("CSV quirks: quoted headers, trailing commas, free column order, no ti
 }
 
 TEST_CASE("bad measurement files give one-line errors naming file, record and line", "[io]") {
-  auto err = [](const std::string& name, const std::string& text) {
+  auto err = [](const std::string& name, const std::string& text, vehs::GapPolicy gaps = vehs::GapPolicy::Split) {
     const auto p = temp(name, text);
     try {
-      vehs::read_measurements(p);
+      vehs::ReadOptions o;
+      o.on_gap = gaps;
+      vehs::read_measurements(p, o);
     } catch (const vehs::Error& e) {
       return std::string(e.what());
     }
     return std::string("no error");
   };
-  CHECK_THAT(err("b1.csv", "t,x\n0,1\n0.1,2\n0.2001,3\n0.3,4\n"),
+  CHECK_THAT(err("b1.csv", "t,x\n0,1\n0.1,2\n0.22,3\n0.3,4\n"),  // a step 20 % off
              Catch::Contains("b1.csv: line 4") && Catch::Contains("non-uniform"));
-  CHECK_THAT(err("b2.csv", "traj,t,x\n1,0,1\n1,0.1,nan\n"),
+  CHECK_THAT(err("b2.csv", "traj,t,x\n1,0,1\n1,0.1,nan\n", vehs::GapPolicy::Fail),
              Catch::Contains("b2.csv: line 3 (record traj=1)") && Catch::Contains("NaN"));
   CHECK_THAT(err("b3.csv", "t,x\n0,1\n0.1,abc\n"), Catch::Contains("line 3") && Catch::Contains("not a number"));
   CHECK_THAT(err("b4.csv", "t,y\n0,1\n"), Catch::Contains("no column 'x'"));

@@ -63,3 +63,28 @@ TEST_CASE("bad models are rejected with a message naming the problem", "[model]"
   const auto m = bad(R"({"drift": {"x": -1}, "diffusion": {"1": -0.1}})");
   CHECK_THROWS_WITH(vehs::validate_model(m, "bad.json"), Catch::Contains("negative"));
 }
+
+TEST_CASE("the covariance of the estimates round-trips; a bad one is rejected naming the entry", "[model][covariance]") {
+  const auto m = vehs::model_from_json(json::parse(R"({
+    "drift": {"x": -1, "y": -0.1}, "diffusion": {"1": 0.02},
+    "covariance": {"parameters": ["drift[x]", "drift[y]", "diffusion[1]"],
+                   "matrix": [[1e-4, 2e-6, 0], [2e-6, 4e-6, 1e-8], [0, 1e-8, 1e-8]]}})"), "m.json");
+  REQUIRE(m.covariance.size() == 3);
+  CHECK(m.covariance(0, 1) == 2e-6);
+  CHECK(m.covariance.index_of("diffusion[1]") == 2);
+  const auto back = vehs::model_from_json(json::parse(vehs::model_to_json(m).dump()), "back.json");
+  CHECK(back.covariance.names == m.covariance.names);
+  CHECK(back.covariance.matrix == m.covariance.matrix);
+  auto bad = [](const char* cov) {
+    return vehs::model_from_json(
+        json::parse(std::string(R"({"drift": {"x": -1}, "diffusion": {"1": 0.02}, "covariance": )") + cov + "}"),
+        "bad.json");
+  };
+  CHECK_THROWS_WITH(bad(R"({"parameters": ["drift[x]"], "matrix": [[null]]})"),
+                    Catch::Contains("bad.json: covariance.matrix[0][0]"));
+  CHECK_THROWS_WITH(bad(R"({"parameters": ["drift[x]", "drift[y]"], "matrix": [[1, 0.5], [0.4, 1]]})"),
+                    Catch::Contains("not symmetric"));
+  CHECK_THROWS_WITH(bad(R"({"parameters": ["drift[x]"], "matrix": [[-1]]})"), Catch::Contains("negative"));
+  CHECK_THROWS_WITH(bad(R"({"parameters": ["drift[x]", "drift[x]"], "matrix": [[1, 0], [0, 1]]})"),
+                    Catch::Contains("appears twice"));
+}

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -118,6 +119,46 @@ TEST_CASE("diagnose-vehs end to end: contract JSON, report in Chromium, history 
   CHECK(figures >= 12);
   CHECK(fs::exists(dir / "report" / "summary.json"));
   CHECK(chromium_figure_status(html) == "figures-loaded: " + std::to_string(figures) + "/" + std::to_string(figures));
+
+  // what a person sees on the page (the DOM after Chromium loaded it): the verdict and the next
+  // step before the first figure, links to both versions' reports (each kept), no debug lines
+  const std::string dom = chromium_dom(html);
+  REQUIRE(!dom.empty());
+  std::string shown = dom.substr(dom.find("<body"));  // the body without its scripts
+  for (auto a = shown.find("<script"); a != std::string::npos; a = shown.find("<script"))
+    shown.erase(a, shown.find("</script>", a) + 9 - a);
+  CHECK(shown.find("figures-loaded") == std::string::npos);
+  const auto step = dom.find("Next step:");
+  REQUIRE(step != std::string::npos);
+  CHECK(step < dom.find("<figure"));
+  CHECK(dom.find("ADEQUATE") < dom.find("<figure"));
+  for (const char* v : {"versions/v1.html", "versions/v2.html"}) {
+    CHECK(dom.find(v) != std::string::npos);
+    CHECK(fs::exists(dir / "report" / v));
+  }
+  const std::string v1 = [&] {
+    std::ifstream in(dir / "report" / "versions" / "v1.html");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }();
+  CHECK(v1.find("INADEQUATE") != std::string::npos);  // version 1's page, not overwritten
+  CHECK(v1.find("Next step: add coulomb_friction") != std::string::npos);
+  // labels rendered literally (no enhanced-text subscripts: "one_step" stays one word), units
+  // named on the axes, and the history's reference line for an adequate model
+  auto svg = [&](const char* name) {
+    std::ifstream in(dir / "report" / name);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  CHECK(svg("components.svg").find(">one_step<") != std::string::npos);
+  CHECK(svg("x_psd.svg").find("frequency [1/time]") != std::string::npos);
+  CHECK(svg("history.svg").find("adequate (about") != std::string::npos);
+
+  // --fail-on-inadequate: exit status 3 for version 1's verdict
+  CHECK(run({cfg, "--quiet", "--fail-on-inadequate", "--set", "output=\"" + (dir / "out3.json").string() + "\"",
+             "--set", "history=\"" + (dir / "history3.json").string() + "\""}) == 3);
 }
 
 TEST_CASE("diagnose-vehs rejects bad inputs with exit status 1 and writes nothing", "[diagnose][app][errors]") {

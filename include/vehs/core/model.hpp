@@ -1,5 +1,6 @@
 #pragma once
 // The model of docs/model-file.md: dX = Y dt, dY = b2 dt + sqrt(a22) dB, plus named effects.
+#include <cstddef>
 #include <map>
 #include <optional>
 #include <string>
@@ -78,6 +79,24 @@ EffectTerms effect_terms(const Effect& effect);
 /// The terms an effect adds, with every parameter at 1 (which terms a fit of the effect needs).
 EffectTerms unit_effect_terms(EffectId id);
 
+/// Covariance of a model's estimates (identify's sandwich estimator, or a likelihood fit), over
+/// parameters named as in vehs/core/parameters.hpp: "drift[x^3]", "diffusion[1]" (the raw
+/// coefficients, not beta or k_i) and "<effect>.<param>". The model file's key "covariance".
+struct ParameterCovariance {
+  std::vector<std::string> names;
+  std::vector<double> matrix;  ///< row-major, names.size()² entries
+
+  bool empty() const { return names.empty(); }
+  std::size_t size() const { return names.size(); }
+  double operator()(std::size_t i, std::size_t j) const { return matrix[i * names.size() + j]; }
+  double& operator()(std::size_t i, std::size_t j) { return matrix[i * names.size() + j]; }
+  /// Index of a name, or size() when absent.
+  std::size_t index_of(std::string_view name) const;
+  /// Empty when valid (square, finite, symmetric, non-negative diagonal, unique names), else a
+  /// one-line reason.
+  std::string invalid_reason() const;
+};
+
 struct Model {
   TermList drift;      ///< b2 = Σ coef·term
   TermList diffusion;  ///< a22 = Σ coef·term
@@ -87,6 +106,8 @@ struct Model {
   /// How the model was fitted (set by identify, read from the model file's "estimator" and
   /// "sampling"); empty for a model that was not fitted.
   std::optional<FitInfo> fit;
+  /// Covariance of the estimates; empty when the model was not fitted (or the file has none).
+  ParameterCovariance covariance;
 
   double drift_coef(std::string_view term) const;      ///< 0 when absent
   double diffusion_coef(std::string_view term) const;  ///< 0 when absent

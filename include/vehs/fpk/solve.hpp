@@ -124,6 +124,7 @@ struct StationaryResult {
   SolveSummary summary;
   bool auto_domain = false;
   int domain_enlargements = 0;
+  int refinements = 0;  ///< times the cells per axis were doubled because the grid did not resolve the model
 };
 
 
@@ -138,6 +139,9 @@ struct DomainOptions {
   double log_density_drop = 25.0;  ///< K: density ratio e^−K at the domain edge
   /// Largest probability mass allowed in the outermost ring of cells (the contract's 1e-6).
   double boundary_mass_tolerance = conventions::fpk_boundary_mass_tolerance;
+  /// solve_with_domain doubles the cells per axis of an under-resolved grid (automatic axes
+  /// only) while they stay within this; 0: never (an error says how many cells are needed).
+  int max_cells = 800;
   std::string invalid_reason() const;
 };
 Grid automatic_domain(const FpkModel& model, int nx, int ny, const DomainOptions& options = {});
@@ -157,8 +161,11 @@ StationaryResult solve_stationary(const FpkModel& model, const Grid& grid,
 /// The front end used by the executable: automatic axes are computed, then the solve is
 /// checked against the boundary-mass tolerance (an automatic axis holding too much mass is
 /// recomputed with 8 more e-folds of density drop, up to 6 times; a given axis is an error) and
-/// for undershoots (a negative total of more than 1e-3 means the grid does not resolve the
-/// density: an error; smaller undershoots are reported in SolveSummary::negative_mass).
+/// for undershoots (a negative total of more than 1e-3). A grid that does not resolve the
+/// model shows as an undershoot or as boundary mass that does not fall when the domain is
+/// enlarged (the cells grow with it): the cells per axis are then doubled (up to
+/// DomainOptions::max_cells, StationaryResult::refinements), or the error names the cells
+/// needed. Smaller undershoots are reported in SolveSummary::negative_mass.
 StationaryResult solve_with_domain(const FpkModel& model, const GridRequest& request,
                                    const SolveOptions& options, const DomainOptions& domain = {});
 

@@ -73,6 +73,11 @@
 //
 // Units: time in the units of the records' t column; coefficients of b2 = Σ c·φ and
 // a22 = Σ q·ψ as in docs/model-file.md (a22 is a variance rate, 2D in the paper's notation).
+// The fit runs on the data scaled to O(1) by powers of ten (vehs/core/scaling.hpp:
+// natural_scales) and the model is converted back, so the same record in m, mm or
+// non-dimensional gives the same model up to the unit conversion. A standard error that is not
+// finite is an error naming the parameter. Model::covariance holds the sandwich covariance of
+// the term fit (empty after a dynamic-effect fit, whose errors are reported per parameter).
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -117,7 +122,7 @@ struct Options {
   bool ssr_rule_set = false;           ///< false: paper → abs_coef, others → t_ratio
   Criterion criterion = Criterion::Bic;
   int folds = 10;                      ///< contiguous time blocks of every record
-  double stlsq_threshold = 0.05;       ///< |coef| threshold of STLSQ (coefficient units)
+  double stlsq_threshold = 0.05;       ///< |coef| threshold of STLSQ (on the coefficients of the data scaled to O(1))
 
   std::size_t se_block = 0;        ///< batch length of the standard errors (0: automatic)
   std::size_t pilot_samples = 250000;  ///< rows of the pilot fits (sampling diagnosis, weights)

@@ -1,6 +1,8 @@
 #pragma once
 // Model files (docs/model-file.md): JSON with "drift" and "diffusion" ({term name: coefficient}),
 // "stderr" ({"drift": {...}, "diffusion": {...}}), "effects" ([{"name", "params", "stderr"}]),
+// "covariance" ({"parameters": ["drift[x]", "diffusion[1]", "impact_stop.gap", ...], "matrix":
+// [[...], ...]}: the covariance of the estimates, Model::covariance),
 // the fit ("estimator": {"used", "stride", ...}, "sampling": {"dt", "pilot_stride", "rho_lag1",
 // "rho_lag_k", "rho_lag_2k", "rho_lag_3k", "noise_share", "verdict", "sensor_noise_sd", ...};
 // Model::fit), and any other sections (identify-vehs writes its report there: residuals,

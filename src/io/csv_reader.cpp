@@ -1,0 +1,205 @@
+// CSV as loggers write it (see vehs/io/measurements.hpp): streamed in 4 MiB chunks, one pass.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+
+#include <fast_float/fast_float.h>
+
+#include "readers.hpp"
+#include "vehs/core/error.hpp"
+
+namespace vehs::io_detail {
+
+namespace {
+
+std::string_view trim(std::string_view f) {
+  while (!f.empty() && (f.front() == ' ' || f.front() == '\t')) f.remove_prefix(1);
+  while (!f.empty() && (f.back() == ' ' || f.back() == '\t' || f.back() == '\r')) f.remove_suffix(1);
+  if (f.size() >= 2 && ((f.front() == '"' && f.back() == '"') || (f.front() == '\'' && f.back() == '\'')))
+    f = f.substr(1, f.size() - 2);
+  return f;
+}
+
+/// The delimiter of a header row: the most frequent of ',', ';' and tab (',' when none).
+char detect_delimiter(std::string_view header) {
+  const std::array<char, 3> candidates{',', ';', '\t'};
+  char best = ',';
+  std::ptrdiff_t most = 0;
+  for (char c : candidates) {
+    const auto n = std::count(header.begin(), header.end(), c);
+    if (n > most) most = n, best = c;
+  }
+  return best;
+}
+
+void split(std::string_view line, char delimiter, std::vector<std::string_view>& fields) {
+  fields.clear();
+  std::size_t start = 0;
+  while (true) {
+    const auto c = line.find(delimiter, start);
+    fields.push_back(line.substr(start, c == std::string_view::npos ? line.npos : c - start));
+    if (c == std::string_view::npos) break;
+    start = c + 1;
+  }
+}
+
+bool is_comment_or_blank(std::string_view line) {
+  const auto p = line.find_first_not_of(" \t\r");
+  return p == std::string_view::npos || line[p] == '#';
+}
+
+std::size_t count_lines(std::FILE* f) {
+  std::vector<char> buf(1 << 22);
+  std::size_t lines = 0, n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), f)) > 0)
+    lines += static_cast<std::size_t>(std::count(buf.data(), buf.data() + n, '\n'));
+  std::rewind(f);
+  return lines + 1;
+}
+
+class CsvParser {
+ public:
+  CsvParser(const std::string& path, const ReadOptions& o, ReadSummary& summary, std::size_t line_estimate)
+      : path_(path), o_(o), summary_(summary), line_estimate_(line_estimate) {}
+
+  void line(std::string_view text) {
+    ++line_no_;
+    if (line_no_ == 1 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 BOM
+    if (is_comment_or_blank(text)) return;
+    if (!rb_) return header(text);
+    split(text, delimiter_, fields_);
+    if (static_cast<int>(fields_.size()) <= need_)
+      throw Error(path_ + ": line " + std::to_string(line_no_) + ": has " + std::to_string(fields_.size()) +
+                  " fields, expected " + std::to_string(ncols_));
+    Row r;
+    r.line = line_no_;
+    if (idx_.traj >= 0) {
+      const double v = value(idx_.traj, o_.traj_column);
+      if (!(v == std::floor(v)) || std::abs(v) > 9e15)
+        throw Error(path_ + ": line " + std::to_string(line_no_) + ": record id '" +
+                    std::string(trim(fields_[static_cast<std::size_t>(idx_.traj)])) + "' is not an integer");
+      r.id = static_cast<long long>(v);
+    }
+    if (idx_.t >= 0) r.t = value(idx_.t, o_.t_column);
+    r.x = value(idx_.x, o_.x_column);
+    if (idx_.u >= 0) r.u = value(idx_.u, o_.u_column);
+    if (idx_.y >= 0) r.y = value(idx_.y, o_.y_column);
+    rb_->row(r);
+  }
+
+  Dataset finish() {
+    if (!rb_) throw Error(path_ + ": empty file (no header row)");
+    rb_->finish();
+    if (d_.x.capacity() - d_.x.size() > d_.x.size() / 8) d_.x.shrink_to_fit();
+    return std::move(d_);
+  }
+
+ private:
+  void header(std::string_view text) {
+    delimiter_ = detect_delimiter(text);
+    split(text, delimiter_, fields_);
+    std::vector<std::string> names;
+    for (auto f : fields_) names.emplace_back(trim(f));
+    while (!names.empty() && names.back().empty()) names.pop_back();  // trailing delimiter
+    ncols_ = static_cast<int>(names.size());
+    idx_ = index_columns(names, o_, path_, "column");
+    need_ = std::max({idx_.x, idx_.t, idx_.traj, idx_.u, idx_.y});
+    d_.x.reserve(line_estimate_);
+    if (idx_.u >= 0) d_.u.reserve(line_estimate_);
+    if (idx_.y >= 0) d_.y.reserve(line_estimate_);
+    rb_ = std::make_unique<RecordBuilder>(d_, path_, o_, idx_.present(), summary_);
+  }
+
+  /// The number in a field; NaN for an empty field or "nan" (a missing value, RecordBuilder decides).
+  double value(int column, const std::string& name) {
+    std::string_view f = trim(fields_[static_cast<std::size_t>(column)]);
+    if (f.empty()) return std::numeric_limits<double>::quiet_NaN();
+    if (f.front() == '+') f.remove_prefix(1);
+    double v = 0.0;
+    const auto r = fast_float::from_chars(f.data(), f.data() + f.size(), v);
+    if (r.ec != std::errc() || r.ptr != f.data() + f.size())
+      throw Error(rb_->where(line_no_) + ": column '" + name + "': '" + std::string(f) + "' is not a number");
+    return v;
+  }
+
+  const std::string& path_;
+  const ReadOptions& o_;
+  ReadSummary& summary_;
+  std::size_t line_estimate_;
+  std::size_t line_no_ = 0;
+  char delimiter_ = ',';
+  int ncols_ = 0, need_ = 0;
+  ColumnIndex idx_;
+  Dataset d_;
+  std::unique_ptr<RecordBuilder> rb_;
+  std::vector<std::string_view> fields_;
+};
+
+}  // namespace
+
+Dataset read_csv(const std::string& path, const ReadOptions& o, ReadSummary& summary) {
+  const File file = open_measurement_file(path);
+  CsvParser parser(path, o, summary, count_lines(file.get()));
+  std::vector<char> buf(1 << 22);
+  std::string carry;  // an incomplete line from the previous chunk
+  std::size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), file.get())) > 0) {
+    std::string_view chunk(buf.data(), n);
+    std::size_t pos = 0;
+    if (!carry.empty()) {
+      const auto nl = chunk.find('\n');
+      if (nl == std::string_view::npos) {
+        carry.append(chunk);
+        continue;
+      }
+      carry.append(chunk.substr(0, nl));
+      parser.line(carry);
+      carry.clear();
+      pos = nl + 1;
+    }
+    while (true) {
+      const auto nl = chunk.find('\n', pos);
+      if (nl == std::string_view::npos) {
+        carry.assign(chunk.substr(pos));
+        break;
+      }
+      parser.line(chunk.substr(pos, nl - pos));
+      pos = nl + 1;
+    }
+  }
+  if (std::ferror(file.get())) throw Error(path + ": read error");
+  if (!carry.empty()) parser.line(carry);
+  return parser.finish();
+}
+
+ColumnIndex index_columns(const std::vector<std::string>& names, const ReadOptions& o, const std::string& path,
+                          const char* kind) {
+  ColumnIndex c;
+  std::string all;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const std::string& n = names[i];
+    if (!n.empty() && std::find(names.begin(), names.begin() + static_cast<std::ptrdiff_t>(i), n) !=
+                          names.begin() + static_cast<std::ptrdiff_t>(i))
+      throw Error(path + ": the " + std::string(kind) + " name '" + n + "' appears twice");
+    const int k = static_cast<int>(i);
+    if (n == o.x_column) c.x = k;
+    if (n == o.t_column) c.t = k;
+    if (n == o.traj_column) c.traj = k;
+    if (o.read_u && n == o.u_column) c.u = k;
+    if (o.read_y && n == o.y_column) c.y = k;
+    all += (all.empty() ? "" : ", ") + n;
+  }
+  if (c.x < 0) throw Error(path + ": no " + kind + " '" + o.x_column + "' (" + kind + "s: " + all + ")");
+  if (c.t < 0 && !(o.dt > 0.0))
+    throw Error(path + ": no time " + kind + " '" + o.t_column + "' (" + kind + "s: " + all +
+                "); give the sampling interval 'dt' in the config");
+  if (o.require_u && c.u < 0)
+    throw Error(path + ": no drive " + kind + " '" + o.u_column + "' (" + kind + "s: " + all +
+                ") but the model uses the term 'u'");
+  return c;
+}
+
+}  // namespace vehs::io_detail

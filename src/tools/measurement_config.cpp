@@ -1,0 +1,143 @@
+#include "tools/measurement_config.hpp"
+
+#include "tools/data_checks.hpp"
+
+#include <iostream>
+
+#include "vehs/core/detail/format.hpp"
+#include "vehs/core/error.hpp"
+
+namespace vehs::tools {
+
+std::vector<KeySpec> measurement_keys() {
+  return {
+      {"columns", "object | [names]",
+       "Column names in the files: {\"x\": ..., \"t\": ..., \"u\": ..., \"traj\": ...} (traj: the record "
+       "id; rows of one record are contiguous), e.g. {\"x\": \"V2\", \"u\": \"V1\"} for the Silverbox "
+       "data. For a 2-D .npy array or a .mat matrix: the list of its columns' names in order, e.g. "
+       "[\"t\", \"x\", \"u\"] (\"\" skips a column).",
+       "{\"x\": \"x\", \"t\": \"t\", \"u\": \"u\", \"traj\": \"traj\"}"},
+      {"mat_variable", "string",
+       "A .mat file's matrix variable, read with the list of `columns`; without it every column is "
+       "a vector variable named like the columns (t, x, u, traj).",
+       "", true},
+      {"dt", "number",
+       "Sampling interval: used for files without a time column; with a time column the column is "
+       "only checked against it (within sampling.jitter_tolerance).",
+       "", true},
+      {"sampling", "object",
+       "Time-column tolerances: {\"jitter_tolerance\": 0.15 (largest relative deviation of a time "
+       "step from the record's interval: rounded, float32 or jittered logger stamps), "
+       "\"jitter_warning\": 1e-4 (a warning above), \"on_gap\": \"split\" | \"fail\" (a step longer "
+       "than 1.5 intervals, or a row with an empty, NaN or infinite x, t or u: split the record there, "
+       "dropping pieces shorter than 16 samples, or stop with an error naming the line)}. The counts "
+       "are reported on stderr and in the output's data section.",
+       "{\"jitter_tolerance\": 0.15, \"jitter_warning\": 1e-4, \"on_gap\": \"split\"}"},
+      {"detrend", "string",
+       "\"mean\": subtract each record's mean from x and u (DC offsets of real sensors); \"none\": use "
+       "the data as they are.",
+       "\"none\""},
+      {"units", "object",
+       "Units of the data, carried into the model file, the reports and figure axes: {\"length\": "
+       "\"mm\", \"time\": \"s\", \"input\": \"V\"} (any text; m, mm, um, cm and s, ms, us are also "
+       "understood as SI factors, which mean power in W needs). Coefficients are in these units "
+       "(b2 in length/time^2, a22 in length^2/time^3).",
+       "{} (non-dimensional)"},
+      glitches_key_spec(),
+  };
+}
+
+ReadOptions read_options(const Config& c, bool need_u) {
+  ReadOptions r;
+  if (c.has("columns")) {
+    if (c.raw("columns").is_array()) {
+      r.columns = c.string_list("columns");
+    } else {
+      const Config col = c.object("columns", {"x", "t", "u", "traj"});
+      r.x_column = col.string_or("x", r.x_column);
+      r.t_column = col.string_or("t", r.t_column);
+      r.u_column = col.string_or("u", r.u_column);
+      r.traj_column = col.string_or("traj", r.traj_column);
+    }
+  }
+  r.mat_variable = c.string_or("mat_variable", "");
+  if (c.has("dt")) r.dt = c.positive("dt");
+  if (c.has("sampling")) {
+    const Config s = c.object("sampling", {"jitter_tolerance", "jitter_warning", "on_gap"});
+    r.jitter_tolerance = s.positive_or("jitter_tolerance", r.jitter_tolerance);
+    if (!(r.jitter_tolerance < 0.5)) s.fail("jitter_tolerance", "must be < 0.5");
+    r.jitter_warning = s.non_negative_or("jitter_warning", r.jitter_warning);
+    const std::string gap = s.string_or("on_gap", "split");
+    if (gap == "fail")
+      r.on_gap = GapPolicy::Fail;
+    else if (gap != "split")
+      s.fail("on_gap", "must be \"split\" or \"fail\" (got \"" + gap + "\")");
+  }
+  r.require_u = need_u;
+  r.read_u = need_u;
+  r.read_y = false;
+  r.min_samples = 16;
+  return r;
+}
+
+LoadedData load_measurements(const Config& c, bool need_u, const AppOptions& app) {
+  const auto files = c.string_list("data");
+  if (files.empty()) c.fail("data", "lists no file");
+  LoadedData l;
+  l.data = checked_measurements(c, read_measurements(files, read_options(c, need_u), &l.summary));
+  if (!app.quiet)
+    for (const auto& w : l.summary.warnings) std::cerr << "warning: " << w << "\n";
+  l.detrend = c.string_or("detrend", "none");
+  if (l.detrend == "mean")
+    subtract_record_means(l.data);
+  else if (l.detrend != "none")
+    c.fail("detrend", "must be \"none\" or \"mean\" (got \"" + l.detrend + "\")");
+  return l;
+}
+
+nlohmann::ordered_json read_summary_json(const ReadSummary& s) {
+  return {{"gaps_split", s.gaps},
+          {"missing_runs_split", s.missing_runs},
+          {"missing_rows", s.missing_rows},
+          {"dropped_pieces", s.dropped_pieces},
+          {"dropped_samples", s.dropped_samples},
+          {"max_time_jitter", s.max_jitter}};
+}
+
+nlohmann::ordered_json units_block(const Config& c) {
+  nlohmann::ordered_json u = nlohmann::ordered_json::object();
+  if (!c.has("units")) return u;
+  const Config k = c.object("units", {"length", "time", "input"});
+  for (const char* key : {"length", "time", "input"})
+    if (k.has(key)) {
+      const std::string v = k.string(key);
+      if (v.empty() || v.find_first_of("\n\r") != std::string::npos) k.fail(key, "must be a non-empty one-line unit name");
+      u[key] = v;
+    }
+  return u;
+}
+
+std::string with_unit(const std::string& label, const std::string& what, const nlohmann::json& units) {
+  auto get = [&](const char* k) -> std::string {
+    return units.is_object() && units.contains(k) && units[k].is_string() ? units[k].get<std::string>() : "";
+  };
+  const std::string L = get("length"), T = get("time"), U = get("input");
+  // without units: the data's own (non-dimensional) units, named
+  const std::string l = L.empty() ? "length" : L, t = T.empty() ? "time" : T;
+  std::string unit;
+  if (what == "x") unit = l;
+  if (what == "t") unit = t;
+  if (what == "v") unit = l + "/" + t;
+  if (what == "u") unit = U;
+  if (what == "f") unit = "1/" + t;
+  if (what == "b2") unit = l + "/" + t + "^2";
+  if (what == "a22") unit = l + "^2/" + t + "^3";
+  if (what == "v2") unit = l + "^2/" + t + "^2";
+  if (what == "1/x") unit = "1/" + l;
+  if (what == "psd_x") unit = l + "^2 " + t;
+  if (what == "x" && L.empty()) return label;  // x and v stay plain labels without units
+  if (what == "v" && L.empty() && T.empty()) return label;
+  return unit.empty() ? label : label + " [" + unit + "]";
+}
+
+}  // namespace vehs::tools
