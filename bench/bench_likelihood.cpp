@@ -159,7 +159,8 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
     likelihood::RefineOptions o;
     o.select = true;
     o.estimate_measurement_noise = true;
-    o.progress = std::getenv("VEHS_PROGRESS") != nullptr;
+    const bool verbose = std::getenv("VEHS_PROGRESS") != nullptr;
+    if (verbose) o.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
     const auto t0 = Clock::now();
     const double c0 = cpu_seconds();
     likelihood::Result r;
@@ -170,7 +171,7 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
       continue;
     }
     const double wall = seconds_since(t0), cpu = cpu_seconds() - c0;
-    if (o.progress)
+    if (verbose)
       for (std::size_t i = 0; i < r.parameters.size(); ++i)
         std::fprintf(stderr, "  %-18s %12.6g +- %10.3g\n", r.parameters[i].name.c_str(), r.values[i], r.stderrs[i]);
     const bool ok_support = same_support(r.model.model, truth) && ((noise > 0) == (r.find("measurement_sd") >= 0));

@@ -355,7 +355,7 @@ Result fit_support(const ObservedModel& start, const Dataset& data, const Refine
     if (2 * sub.x.size() <= data.x.size()) {  // (records too short to share: no warm start)
       RefineOptions so = o;
       so.filter.substeps = ev.settings().substeps;
-      so.progress = false;
+      so.log = {};
       try {
         const ObservedModel warm = fit_support(start, sub, so, choice, false).model;
         const Parameterization pw(warm, choice, data.records.size(), where);
@@ -395,7 +395,7 @@ Result fit_support(const ObservedModel& start, const Dataset& data, const Refine
   res.log_likelihood = st.d.log_likelihood;
   res.bic = -2.0 * res.log_likelihood + double(n) * std::log(double(ev.observations()));
   s.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  if (o.progress) std::fprintf(stderr, "%s\n", s.BriefReport().c_str());
+  if (o.log) o.log(s.BriefReport());
   return res;
 }
 

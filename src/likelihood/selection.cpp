@@ -121,8 +121,7 @@ Result select_support(const ObservedModel& start, const Dataset& data, const Ref
       st.delta = INFINITY;
       st.threshold = 0.0;
       st.accepted = false;
-      if (o.progress)
-        std::fprintf(stderr, "likelihood selection: cannot remove %s (%s)\n", p.name.c_str(), e.what());
+      if (o.log) o.log("likelihood selection: cannot remove " + p.name + " (" + e.what() + ")");
       steps.push_back(st);
       unremovable.push_back(p.name);
       continue;
@@ -136,9 +135,12 @@ Result select_support(const ObservedModel& start, const Dataset& data, const Ref
       st.threshold = chi2_1_upper_quantile(boundary ? 2.0 * o.lr_alpha : o.lr_alpha);
     }
     st.accepted = st.delta < st.threshold;
-    if (o.progress)
-      std::fprintf(stderr, "likelihood selection: remove %s (|z| %.3g): 2 dlogL %.4g vs %.4g: %s\n",
-                   st.removed.c_str(), st.z, st.delta, st.threshold, st.accepted ? "removed" : "kept");
+    if (o.log) {
+      char line[256];
+      std::snprintf(line, sizeof line, "likelihood selection: remove %s (|z| %.3g): 2 dlogL %.4g vs %.4g: %s",
+                    st.removed.c_str(), st.z, st.delta, st.threshold, st.accepted ? "removed" : "kept");
+      o.log(line);
+    }
     steps.push_back(st);
     if (!st.accepted) break;
     current = std::move(r);

@@ -230,7 +230,7 @@ int run_fpk(Config& cfg, const AppOptions& app) {
   const FpkModel fm(model, model_where);
   const std::string output = cfg.string("output");
   FpkSettings st = fpk_settings(cfg);
-  st.solve.sor.progress = app.progress && st.solve.solver == Solver::Sor;
+  if (st.solve.solver == Solver::Sor) st.solve.sor.progress = app.progress;
   const SolveOptions& opt = st.solve;
   const DomainOptions& dom = st.domain;
   const GridRequest& req = st.grid;

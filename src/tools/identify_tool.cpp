@@ -378,7 +378,7 @@ int run_identify(Config& c, const AppOptions& app) {
   Options o = identify_options(c);
   o.progress = app.progress;
   LikelihoodSettings lik = likelihood_settings(c);
-  lik.options.progress = !app.quiet;
+  if (!app.quiet) lik.options.log = [](const std::string& line) { std::cerr << line << "\n"; };
   bool need_u = false;
   for (const auto& t : o.drift_library) need_u = need_u || t.depends_on_u();
   const nlohmann::ordered_json units = units_block(c);

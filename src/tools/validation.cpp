@@ -10,6 +10,7 @@
 #include "tools/figures.hpp"
 #include "tools/identify_tool.hpp"
 #include "tools/likelihood_refinement.hpp"
+#include "tools/measurement_config.hpp"
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/io/atomic_file.hpp"
@@ -110,7 +111,7 @@ int run_validation(const Model& model, const Config& c, const AppOptions& app) {
   const Config v = c.object("validate", {"data", "columns", "dt", "detrend", "segments", "skip", "input", "substeps",
                                          "scale", "unit", "output", "series", "figure", "figure_samples"});
   const std::string output = v.string("output");
-  const ReadOptions ro = identify_read_options(v, model.uses_drive());  // the same columns and dt keys
+  const ReadOptions ro = read_options(v, model.uses_drive());  // the same columns and dt keys as identify
   Dataset data = read_measurements(v.string_list("data"), ro);
   const std::string detrend = v.string_or("detrend", "none");
   if (detrend == "mean")

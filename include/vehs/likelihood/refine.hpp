@@ -41,6 +41,7 @@
 // and the next candidate tried. Terms in keep_drift /
 // keep_diffusion, diffusion[1] and effect parameters are never removed.
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -82,7 +83,8 @@ struct RefineOptions {
   int max_rounds = 20;                ///< whitening rounds
   std::size_t warm_start_samples = 30000;  ///< larger data: first fitted on 1/8 of every record
   double step_tolerance = 0.01;       ///< convergence: Newton step below this many SE
-  bool progress = false;              ///< one line per fit on stderr
+  /// Receives one line per fit and per selection step (the library itself never prints).
+  std::function<void(const std::string&)> log;
 
   bool IsValid(std::string* error) const;
 };
