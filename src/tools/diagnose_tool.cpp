@@ -15,6 +15,7 @@
 #include "tools/measurement_config.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/io/atomic_file.hpp"
+#include "vehs/io/output_transaction.hpp"
 #include "vehs/io/measurements.hpp"
 #include "vehs/io/model_file.hpp"
 
@@ -125,14 +126,13 @@ namespace {
 /// A copy of the page in <folder>/versions/v<version>.html (the page is self-contained: its
 /// figures are embedded), with the links between versions made relative to that folder.
 void keep_version_page(const std::string& html, const std::string& folder, int version) {
-  std::ifstream in(html, std::ios::binary);
+  std::ifstream in(current_output_path(html), std::ios::binary);  // (staged in this run's transaction)
   std::stringstream ss;
   ss << in.rdbuf();
   std::string page = ss.str();
   const std::string from = "href=\"versions/", to = "href=\"";
   for (auto p = page.find(from); p != std::string::npos; p = page.find(from, p + to.size()))
     page.replace(p, from.size(), to);
-  fs::create_directories(fs::path(folder) / "versions");
   write_file_atomically((fs::path(folder) / "versions" / ("v" + std::to_string(version) + ".html")).string(), page);
 }
 

@@ -386,6 +386,9 @@ int run_identify(Config& c, const AppOptions& app) {
   LoadedData loaded = load_measurements(c, need_u, app);
   Dataset& data = loaded.data;
   const std::string& detrend = loaded.detrend;
+  // the default folds only feed the CV figures under the BIC criterion: fewer on small data
+  if (!c.has("folds") && o.criterion == identify::Criterion::Bic)
+    o.folds = static_cast<int>(std::clamp<std::size_t>(data.total_samples() / 100, 2, static_cast<std::size_t>(o.folds)));
   if (static_cast<std::size_t>(o.folds) * 100 > data.total_samples())
     c.fail("folds", "= " + std::to_string(o.folds) + " leaves fewer than 100 samples per fold (the data have " +
                         std::to_string(data.total_samples()) + ")");
