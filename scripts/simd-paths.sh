@@ -4,7 +4,9 @@
 # 1. The run-time levels of the simulator's kernels (vehs/sim/simd.hpp): the portable build's
 #    simulate-vehs run with VEHS_SIMD=scalar, sse2, avx2 and avx512 (those this CPU has) on the
 #    same configs gives bitwise identical records and statistics (one source for the lane
-#    arithmetic, -ffp-contract=off in every level: the design promises bitwise equality).
+#    arithmetic, -ffp-contract=off in every level: the design promises bitwise equality); and
+#    identify-vehs at each level (its Gram kernel is dispatched the same way:
+#    src/identify/simd/gram_kernel.inc) gives bitwise identical models on the same data.
 #
 # 2. Three builds of simulate-vehs and identify-vehs, each in its own folder under
 #    $VEHS_SIMD_DIR (default ./build-simd):
@@ -100,6 +102,18 @@ for v in "${levels[@]}"; do
   for c in paper effects friction; do
     VEHS_SIMD="$v" "$portable/simulate-vehs" -q "$c.json" --set "output=\"${c}_level_$v.npy\"" \
       --set "statistics={\"output\": \"${c}_stats_level_$v.json\"}"
+  done
+done
+for v in "${levels[@]}"; do
+  for m in paper friction; do
+    sed "s/model_${m}_[a-z]*\.json/model_${m}_level_$v.json/" "id_$m.json" >"id_${m}_level.json"
+    VEHS_SIMD="$v" "$portable/identify-vehs" -q "id_${m}_level.json"
+  done
+done
+for m in paper friction; do
+  for v in "${levels[@]:1}"; do
+    echo "== identify-vehs on the $m data: VEHS_SIMD=scalar vs VEHS_SIMD=$v (portable build)"
+    compare model "model_${m}_level_scalar.json" "model_${m}_level_$v.json" --bitwise
   done
 done
 for c in paper effects friction; do

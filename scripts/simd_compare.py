@@ -5,6 +5,7 @@ scripts/simd-paths.sh; standard library only).
   simd_compare.py records A.npy B.npy        measurement files: bitwise, else how far they drift
   simd_compare.py statistics A.json B.json   Monte Carlo statistics: difference in standard errors
   simd_compare.py model A.json B.json        identify-vehs models: difference in standard errors
+                                             (--bitwise: identical coefficients and SEs)
 
 Prints one line per comparison and exits 1 when a bound below is broken:
   records     --bitwise: identical bytes; otherwise the same records and lengths, and the
@@ -15,7 +16,9 @@ Prints one line per comparison and exits 1 when a bound below is broken:
               difference; 4.9 = z_bound(k ≤ 30) of tests/stat_bounds.hpp).
   model       same support; |Δc| ≤ 1e-6·SE(c) for every coefficient (rounding differences of the
               sums, amplified by the condition number of the Gram matrix ≤ 1e8: 1e8·1e-16·√n ≪ 1e-6
-              of an SE that is itself ≥ 1e-3 of |c|).
+              of an SE that is itself ≥ 1e-3 of |c|); --bitwise: every coefficient and standard
+              error equal (the Gram kernel's SIMD levels in one build: the same sums in the same
+              order).
 """
 import json
 import math
@@ -106,9 +109,14 @@ def compare_statistics(a, b, bitwise):
     return ok
 
 
-def compare_model(a, b):
+def compare_model(a, b, bitwise=False):
     ja, jb = json.load(open(a)), json.load(open(b))
     ok, worst = True, 0.0
+    if bitwise:
+        same = all(ja[part] == jb[part] and ja["stderr"][part] == jb["stderr"][part]
+                   for part in ("drift", "diffusion"))
+        print(f"model      {'bitwise identical' if same else 'DIFFER'}: {a} vs {b}")
+        return same
     for part in ("drift", "diffusion"):
         if set(ja[part]) != set(jb[part]):
             print(f"model      {part} supports differ: {sorted(ja[part])} vs {sorted(jb[part])}")
@@ -130,7 +138,7 @@ def main():
     bitwise = "--bitwise" in sys.argv[4:]
     ok = {"records": lambda: compare_records(a, b, bitwise),
           "statistics": lambda: compare_statistics(a, b, bitwise),
-          "model": lambda: compare_model(a, b)}[kind]()
+          "model": lambda: compare_model(a, b, bitwise)}[kind]()
     sys.exit(0 if ok else 1)
 
 
