@@ -116,23 +116,45 @@ TEST_CASE("the paper's estimator shows its documented biases (why the default ex
   }
 }
 
-TEST_CASE("white sensor noise (sd 1e-3 at dt = 0.005): the noisy estimator keeps beta and 2D within 10 %",
+TEST_CASE("white sensor noise (sd 1e-3 at dt = 0.005): the noisy estimator's stride, beta within its SE, 2D within 10 %",
           "[identify][noise]") {
   const Model truth = paper_truth();
   const Dataset d = simulate(truth, 0.005, 20, 20, 100000, 4242, 1e-3);
   const identify::Result r = identify::identify(d, identify::Options{});
+  auto se_of = [](const std::map<std::string, double>& se, const char* n) {
+    const auto it = se.find(n);
+    return it == se.end() ? NAN : it->second;
+  };
+  const double beta_z = (r.model.drift_coef("y") + 0.1) / se_of(r.model.drift_stderr, "y");
   tally("sensor noise sd", r.model.fit->sampling.sensor_noise_sd / 1e-3 - 1.0);
+  tally("stride", r.model.fit->stride);
+  tally("beta z", beta_z, r.model.drift_coef("y") / -0.1 - 1.0);
+  tally("2D z", (r.model.diffusion_coef("1") - 0.02) / se_of(r.model.diffusion_stderr, "1"),
+        r.model.diffusion_coef("1") / 0.02 - 1.0);
   CHECK(r.model.fit->estimator == identify::Estimator::Noisy);
-  CHECK(r.model.fit->stride > 1);
-  // the noise sd from the lag-2k autocovariance: relative sd 0.6 % over 9 seed shifts, 10 % is 17 sd
+  // Seed study (issue 11; scripts/seed-study.sh 100 build/tests/test_identify "white sensor noise*").
+  // Before: the stride search stopped at the first noise share η_k below the goal 0.95, and η_k
+  // (≈ 1 − 1e-3 at strides 1–2, sd ≈ 0.02) fell below it by its own noise: over 62 seeds the
+  // stride was 1 (3 seeds: the fit broke down), 2 (2), 3 (1), 4 (4), 5 (41), 6 (11) and the test
+  // failed in 11. The estimator now searches until η_k is 4 SE below the goal
+  // (noisy_stride_pilot); over 100 seeds: stride 5 (81) or 6 (19), no broken fit, and
+  //  * β: z mean −0.04 ± 0.10, sd 0.96, max |z| 2.45; relative error −0.27 % ± 0.44 %, sd 4.4 %
+  //    (unbiased, standard errors calibrated). The former check "β within 10 %" was 2.3 sd of
+  //    these data (3 of the 100 runs failed it): β is checked against its SE at z_limit(1) = 4.47,
+  //    ≥ 4.0 sd even at the upper 95 % limit of the sd (1.12): ≤ 6e-5;
+  //  * 2D: +0.29 % ± 0.18 %, sd 1.8 %: 10 % is 5.5 sd (< 1e-7);
+  //  * the stride: the cube-root solve from the pilot at k = 8 (η ≈ 0.85 ± 0.024) gives 5.35 with
+  //    sd ≈ 0.34 (error propagation): [3, 8] is ≥ 5.4 sd away (< 1e-7);
+  //  * the noise sd: relative sd 0.54 %, 10 % is 18 sd; no spurious term in 100 runs.
+  // Not checked (documented limits of the noisy estimator, vehs/identify/identify.hpp: x-noise in
+  // the Gram matrix is neglected): the polynomial drift terms sit 0.43–0.63 SE off on average
+  // (sd of z 1.08–1.12) and 2Q −3.2 % ± 0.4 % (−0.84 SE): z-checks on them at z_limit would leave
+  // < 4 sd. They are printed and tallied by compare().
+  CHECK(r.model.fit->stride >= 3);
+  CHECK(r.model.fit->stride <= 8);
   CHECK(r.model.fit->sampling.sensor_noise_sd == Approx(1e-3).epsilon(0.1));
   compare(r.model, truth);
-  // KNOWN WEAKNESS (issue 11 seed study, not resolved here): over 9 seed shifts this test failed
-  // in 2 — once the stride stayed 1 and the fit broke down (x^3 64 SE off, a diffusion term
-  // dropped), once β was 12 % off. The noisy estimator's robustness at this noise level
-  // (s = 1e-3 at Δt = 0.005, 2·10⁶ samples) needs its own work; its false-failure probability
-  // per run is of order 0.2, far above 1e-4. The checks are left as they were.
-  CHECK(rel_error(r.model, truth, false, "y") <= 0.10);
+  CHECK(std::abs(beta_z) <= z_limit(1));
   CHECK(rel_error(r.model, truth, true, "1") <= 0.10);
   Model drift_only = truth;  // the drift's support (the diffusion's is not this test's subject)
   drift_only.diffusion = r.model.diffusion;
