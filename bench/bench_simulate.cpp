@@ -8,7 +8,7 @@
 // Run (Release build):  build/bench/bench_simulate            (prints a summary table at the end)
 //                       build/bench/bench_simulate --benchmark_filter=Paper
 //                       VEHS_SIMD=avx2 build/bench/bench_simulate   (a given kernel level; every
-//                       level the CPU runs: bench/simulate_levels.sh)
+//                       level the CPU runs: bench/simd_levels.sh)
 // Timings are wall-clock (UseRealTime) and noisy on a shared machine: the summary takes, for
 // each benchmark, the best of its repetitions.
 #include <benchmark/benchmark.h>
