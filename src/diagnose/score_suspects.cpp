@@ -10,6 +10,7 @@
 #include <limits>
 #include <string_view>
 
+#include <Eigen/Dense>
 #include <unsupported/Eigen/FFT>
 
 #include "unit_math.hpp"
@@ -106,10 +107,44 @@ struct Context {
   Dataset pilot;  ///< the leading quarter of the records, where the scans choose (empty: all data)
 };
 
+/// The log p of the coefficients `a` of a joint score test with the coefficients `b` free too
+/// (projected out like the model's own): s_a|b = s_a − V_ab V_bb⁻¹ s_b, V_a|b = V_aa − V_ab V_bb⁻¹ V_ba.
+/// One coefficient with a sign (`sign` ≠ 0: the effect's parameter is sign × the coefficient, ≥ 0):
+/// one-sided normal; else χ² with rank(V_a|b) degrees of freedom.
+double partial_log_p(const likelihood::ScoreTestResult& joint, const std::vector<int>& a, const std::vector<int>& b,
+                     double sign) {
+  auto sub = [&](const std::vector<int>& r, const std::vector<int>& k) {
+    Eigen::MatrixXd m(r.size(), k.size());
+    for (std::size_t i = 0; i < r.size(); ++i)
+      for (std::size_t j = 0; j < k.size(); ++j) m(Eigen::Index(i), Eigen::Index(j)) = joint.efficient_information(r[i], k[j]);
+    return m;
+  };
+  auto vec = [&](const std::vector<int>& r) {
+    Eigen::VectorXd v(r.size());
+    for (std::size_t i = 0; i < r.size(); ++i) v(Eigen::Index(i)) = joint.efficient_score(r[i]);
+    return v;
+  };
+  const Eigen::MatrixXd Vbb_inv = sub(b, b).completeOrthogonalDecomposition().pseudoInverse();
+  const Eigen::MatrixXd Vab = sub(a, b);
+  const Eigen::VectorXd s = vec(a) - Vab * Vbb_inv * vec(b);
+  const Eigen::MatrixXd V = sub(a, a) - Vab * Vbb_inv * Vab.transpose();
+  if (a.size() == 1 && sign != 0.0) return V(0, 0) > 0.0 ? log_normal_sf(sign * s(0) / std::sqrt(V(0, 0))) : 0.0;
+  const auto cod = V.completeOrthogonalDecomposition();
+  const double stat = s.dot(cod.pseudoInverse() * s);
+  return cod.rank() > 0 ? log_chi2_sf(stat, double(cod.rank())) : 0.0;
+}
+
+/// Look-alike effects (y·|y| and y³ damping: over a Gaussian-like velocity their efficient scores
+/// correlate ≈ 0.97 once the linear damping is projected out): each one's test with the other's
+/// coefficients free, from the same filter pass. Their marginal tests name both; the partial
+/// tests say which one the data prefer (suspect name → partial log p).
+using PartialEvidence = std::map<std::string, double>;
+
 /// Term-like effects: their coefficients at 0 in the drift / diffusion, all from one filter pass
 /// (each tested against the model's own terms, the other candidates held at 0).
 std::vector<ScoreSuspect> term_effects(const Context& c, const std::vector<EffectId>& ids,
-                                       std::vector<std::pair<std::string, std::string>>& untested) {
+                                       std::vector<std::pair<std::string, std::string>>& untested,
+                                       PartialEvidence& partial) {
   struct Slot {
     std::string param, name;
     double sign;
@@ -146,9 +181,27 @@ std::vector<ScoreSuspect> term_effects(const Context& c, const std::vector<Effec
     groups.emplace_back();
     for (const auto& sl : g) groups.back().push_back(sl.name);
   }
+  // the look-alike pair, jointly (an extra group of the same pass)
+  const auto pos = [&](EffectId id) { return long(std::find(tested_ids.begin(), tested_ids.end(), id) - tested_ids.begin()); };
+  const long kq = pos(EffectId::QuadraticDamping), kn = pos(EffectId::NonlinearDamping);
+  const bool pair = kq < long(tested_ids.size()) && kn < long(tested_ids.size());
+  if (pair) {
+    groups.push_back(groups[std::size_t(kq)]);
+    groups.back().insert(groups.back().end(), groups[std::size_t(kn)].begin(), groups[std::size_t(kn)].end());
+  }
   likelihood::ObservedModel om{m, c.measurement_sd, {}};
   const std::vector<likelihood::ScoreTestResult> rs = likelihood::score_tests(om, c.data, groups, c.test_options);
-  for (std::size_t k = 0; k < rs.size(); ++k) {
+  if (pair) {
+    const auto& joint = rs.back();
+    std::vector<int> q, n;
+    for (std::size_t i = 0; i < slots[std::size_t(kq)].size(); ++i) q.push_back(int(i));
+    for (std::size_t i = 0; i < slots[std::size_t(kn)].size(); ++i) n.push_back(int(q.size() + i));
+    const double q_sign = q.size() == 1 ? slots[std::size_t(kq)][0].sign : 0.0;
+    const double n_sign = n.size() == 1 ? slots[std::size_t(kn)][0].sign : 0.0;
+    partial[std::string(effect_spec(EffectId::QuadraticDamping).name)] = partial_log_p(joint, q, n, q_sign);
+    partial[std::string(effect_spec(EffectId::NonlinearDamping).name)] = partial_log_p(joint, n, q, n_sign);
+  }
+  for (std::size_t k = 0; k < slots.size(); ++k) {
     const EffectSpec& spec = effect_spec(tested_ids[k]);
     const likelihood::ScoreTestResult& r = rs[k];
     const std::vector<Slot>& sl = slots[k];
@@ -300,6 +353,22 @@ std::pair<ScoreSuspect, ScoreSuspect> forcing_scans(const Context& c) {
   return {shared, local};
 }
 
+/// When both look-alikes are significant, the one the partial tests prefer takes the better of
+/// their two places (their marginal evidence is kept); each one's test says its partial p.
+void order_look_alikes(ScoreSuspectReport& rep, const PartialEvidence& partial) {
+  if (partial.size() != 2) return;
+  std::vector<std::size_t> at;
+  for (std::size_t i = 0; i < rep.ranked.size(); ++i)
+    if (partial.count(rep.ranked[i].effect)) at.push_back(i);
+  if (at.size() != 2) return;
+  ScoreSuspect& first = rep.ranked[at[0]];
+  ScoreSuspect& second = rep.ranked[at[1]];
+  first.test += "; with " + second.effect + " free too: p = " + fmt(std::exp(partial.at(first.effect)), 3);
+  second.test += "; with " + first.effect + " free too: p = " + fmt(std::exp(partial.at(second.effect)), 3);
+  if (first.significant && second.significant && partial.at(second.effect) < partial.at(first.effect))
+    std::swap(first, second);
+}
+
 }  // namespace
 
 ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double measurement_sd,
@@ -327,6 +396,7 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
     });
   }
   std::vector<EffectId> term_ids;
+  PartialEvidence partial;
   std::vector<std::function<ScoreSuspect()>> jobs;
   std::vector<std::string> names;
   auto untested = [&](const std::string& e, const std::string& why) { rep.untested.emplace_back(e, why); };
@@ -372,7 +442,7 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
     if (!term_ids.empty()) {
       try {
         const auto t0 = std::chrono::steady_clock::now();
-        std::vector<ScoreSuspect> terms = term_effects(c, term_ids, rep.untested);
+        std::vector<ScoreSuspect> terms = term_effects(c, term_ids, rep.untested, partial);
         const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         for (auto& t : terms) t.seconds = sec, rep.ranked.push_back(std::move(t));
       } catch (const std::exception& e) {
@@ -430,6 +500,7 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
     if (a.log_p != b.log_p) return a.log_p < b.log_p;
     return a.statistic / a.dof > b.statistic / b.dof;
   });
+  order_look_alikes(rep, partial);
   return rep;
 }
 

@@ -145,8 +145,8 @@ inline std::string oracle_parameter(const HiddenCase& c) {
   return "";
 }
 
-/// The records of a hidden case: one simulation per record when the phase is random per record.
-inline vehs::Dataset hidden_data(const HiddenCase& c, std::uint64_t seed) {
+/// The sensor-like sampling of the hidden cases: Taylor 1.5, 20 substeps per sample, a burn-in.
+inline vehs::sim::SimulationOptions sampling_of(const HiddenCase& c, std::uint64_t seed) {
   vehs::sim::SimulationOptions o;
   o.dt = c.dt;
   o.substeps = 20;
@@ -156,10 +156,14 @@ inline vehs::Dataset hidden_data(const HiddenCase& c, std::uint64_t seed) {
   o.record_y = false;
   o.x0.lo = -1.0, o.x0.hi = 1.0;
   o.seed = vehs_test::seed(seed);
-  if (!c.phase_per_record) {
-    o.records = c.records;
-    return vehs::sim::simulate(truth_of(c), o);
-  }
+  o.records = c.records;
+  return o;
+}
+
+/// The records of a hidden case: one simulation per record when the phase is random per record.
+inline vehs::Dataset hidden_data(const HiddenCase& c, std::uint64_t seed) {
+  vehs::sim::SimulationOptions o = sampling_of(c, seed);
+  if (!c.phase_per_record) return vehs::sim::simulate(truth_of(c), o);
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> phase(0.0, 2.0 * M_PI);
   vehs::Dataset all;

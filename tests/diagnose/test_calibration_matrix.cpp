@@ -2,6 +2,7 @@
 // own data for short and long records, few and many, scheme-consistent and continuous-time
 // sampling. Small instances run in CI; the full matrix is a hidden bench tag:
 //   VEHS_CAL_SEEDS=10 build/tests/test_diagnose "[.calibration_matrix]"
+// (VEHS_CAL_SHAPE=text: only the shapes whose name contains it; VEHS_CAL_SEED0=k: seeds from k)
 #include <catch2/catch.hpp>
 
 #include <cstdio>
@@ -63,18 +64,21 @@ std::string failing(const vehs::diagnose::Result& r) {
 TEST_CASE("calibration matrix: the true model on its own data, every shape (bench)", "[.calibration_matrix]") {
   const int seeds = std::getenv("VEHS_CAL_SEEDS") ? std::atoi(std::getenv("VEHS_CAL_SEEDS")) : 4;
   const char* only = std::getenv("VEHS_CAL_SHAPE");
+  const int first = std::getenv("VEHS_CAL_SEED0") ? std::atoi(std::getenv("VEHS_CAL_SEED0")) : 1;
   for (const Shape& s : shapes()) {
     if (only && s.name.find(only) == std::string::npos) continue;
     int adequate = 0;
-    for (int k = 1; k <= seeds; ++k) {
+    for (int k = first; k < first + seeds; ++k) {
       const vehs::Dataset d = shape_data(s, 7000 + std::uint64_t(k));
       auto o = fast_options(std::uint64_t(k));
       o.suspects.enabled = false;
       o.fpk = false;
       const auto r = vehs::diagnose::diagnose(bistable(), d, o);
       adequate += r.adequate();
-      std::printf("  %s seed %d: %s%s\n", s.name.c_str(), k, r.adequate() ? "adequate" : "INADEQUATE",
-                  failing(r).c_str());
+      std::printf("  %s seed %d: %s%s [lens %s, data sampling %s, sensor noise %.3g]\n", s.name.c_str(), k,
+                  r.adequate() ? "adequate" : "INADEQUATE", failing(r).c_str(), r.lens.describe().c_str(),
+                  vehs::enum_to_string(vehs::kSamplingVerdictNames, r.sampling.data_verdict).c_str(),
+                  r.sampling.sensor_noise_sd);
       std::fflush(stdout);
     }
     std::printf("%s: adequate %d of %d\n", s.name.c_str(), adequate, seeds);

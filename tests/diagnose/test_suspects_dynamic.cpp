@@ -10,6 +10,7 @@
 #include <string>
 
 #include "vehs/core/model.hpp"
+#include "vehs/diagnose/score_suspects.hpp"
 #include "vehs/diagnose/suspects.hpp"
 #include "vehs/identify/identify.hpp"
 #include "vehs/sim/simulate.hpp"
@@ -44,10 +45,9 @@ std::string describe(const diagnose::SuspectReport& r) {
 
 /// Power checks (the hidden effect ranked first and held-out significant). Over 3–4 seed shifts
 /// (scripts/seed-study.sh): first in every shift; held-out z of harmonic forcing 5.7 ± sd 2.1,
-/// electromechanical 4.6 ± 0.8, coloured 6.3 ± 1.8, impact stops 2.0, 4.7, 6.3, 10.5 — the stops
-/// fell below the threshold 3 once in 4 (KNOWN WEAKNESS: with z ≈ 5 ± 2 the significance check
-/// fails for a few % to 20 % of seeds, far above 1e-4).
-void check_first(const diagnose::SuspectReport& r, const std::string& effect) {
+/// electromechanical 4.6 ± 0.8, coloured 6.2 ± 1.5. The stops' held-out z is 5.9 ± 3.6 (4
+/// shifts): their significance is checked by the score test on all the data instead (below).
+void check_first(const diagnose::SuspectReport& r, const std::string& effect, bool held_out_significance = true) {
   INFO(describe(r));
   if (!r.ranked.empty()) {
     tally(effect + " first", r.ranked[0].effect == effect);
@@ -56,8 +56,7 @@ void check_first(const diagnose::SuspectReport& r, const std::string& effect) {
   }
   REQUIRE_FALSE(r.ranked.empty());
   CHECK(r.ranked[0].effect == effect);
-  CHECK(r.ranked[0].held_out_significant);
-  CHECK(r.ranked[0].effect == effect);
+  if (held_out_significance) CHECK(r.ranked[0].held_out_significant);
 }
 
 }  // namespace
@@ -85,8 +84,23 @@ TEST_CASE("suspects: hidden impact stops are ranked first and significant",
   const Effect e = draw_impact_stop(truth, g);  // gaps at a random upper quantile of |x| without stops
   truth.effects = {e};
   const Dataset d = simulate_hidden(truth, 2000 + g() % 1000, 8, 40000);
-  const auto r = suspects_of(baseline_fit(d), d);
-  check_first(r, "impact_stop");
+  const Model base = baseline_fit(d);
+  const auto r = suspects_of(base, d);
+  // Over 4 seed shifts: held-out first 4 of 4 with an evidence lead of 1734 ± sd 393 nats (4.4 sd
+  // from 0), held-out z 5.9 ± 3.6 (z > 3 failed 1 in 4: the former KNOWN WEAKNESS). The score
+  // test on all the data (10^5 samples) names the stops first with z 45 ± 17, ahead of the
+  // runner-up by 25 ± 5.6; a claim needs z ≈ 3.8 (alpha 0.01 over 10 effects, 6 gaps), and the
+  // lead bounds the z from below: P(lead < 3.8) = Φ(−3.8) = 7e-5, P(held-out lead < 0) = 5e-6
+  // (normal spreads): ≤ 1e-4 in all.
+  diagnose::ScoreSuspectOptions so;
+  so.max_samples = 1e5;
+  const auto sr = diagnose::score_suspects(base, d, 0.0, so);
+  REQUIRE(sr.ranked.size() > 1);
+  tally("impact score z", sr.ranked[0].z);
+  tally("impact score lead", sr.ranked[0].z - sr.ranked[1].z);
+  check_first(r, "impact_stop", false);
+  CHECK(sr.ranked[0].effect == "impact_stop");
+  CHECK(sr.ranked[0].significant);
 }
 
 TEST_CASE("suspects: a hidden electromechanical state is ranked first and significant",
@@ -135,7 +149,13 @@ TEST_CASE("suspects: a hidden OU (coloured) excitation is ranked first and signi
   check_first(r, "colored_noise");
   INFO(describe(r));
   tally(pot + " tau", r.ranked[0].params.at("tau") / e.param("tau") - 1.0);
+  REQUIRE(r.ranked[0].params_stderr.count("tau"));
+  const double tau_z = (r.ranked[0].params.at("tau") - e.param("tau")) / r.ranked[0].params_stderr.at("tau");
+  tally(pot + " tau z", tau_z);
   // tau over 3 + 3 seed shifts: relative error +2 % ± sd 15 % (bistable), +11 % ± 15 %
-  // (monostable): 30 % is 1.3–2 sd — KNOWN WEAKNESS, false failure of order 5 % per seed
-  CHECK(r.ranked[0].params.at("tau") == Approx(e.param("tau")).epsilon(0.3));
+  // (monostable) — a 30 % check failed for ~5 % of seeds (the former KNOWN WEAKNESS). Checked
+  // against its own standard error instead: (τ̂ − τ)/SE over 4 + 4 shifts −0.00 ± sd 1.07
+  // (bistable), +0.77 ± 0.80 (monostable): |z| ≤ 5 is ≥ 4.7 measured sd from the centre
+  // (normal: 3e-6 per potential).
+  CHECK(std::abs(tau_z) <= 5.0);
 }
