@@ -7,8 +7,9 @@
 //        BIC): exact support, max |z|, max relative error, coverage of the 95 % intervals
 //   bench_likelihood driven SEEDS           driven Duffing, 10 samples per period, free run on a
 //                                           fresh input against the noise floor
-//   bench_likelihood effects SEEDS          electromechanical, coloured, per-record harmonic
-//   bench_likelihood speed                  10^5, 3·10^5, 10^6 samples: refine wall time
+//   bench_likelihood effects SEEDS [FIRST [EFFECT]]  electromechanical, coloured, per-record
+//                                           harmonic (seeds FIRST …; only EFFECT when given)
+//   bench_likelihood speed [MAX]            10^5, 3·10^5, 10^6 samples (up to MAX): refine wall time
 //   bench_likelihood silverbox              the standard split, before/after, interpolations
 //   bench_likelihood gaussian               filter vs particle-filter log-likelihood
 #include <omp.h>
@@ -126,6 +127,30 @@ double max_rel_moment(const Model& m, const Model& truth) {
   return worst;
 }
 
+/// Signed z and signed relative error of one parameter over the seeds (bias vs tail).
+using SignedErrors = std::map<std::string, std::vector<std::pair<double, double>>>;
+
+void record_signed(SignedErrors& e, const likelihood::Result& r, const std::string& name, double truth) {
+  const int i = r.find(name);
+  if (i < 0) return;
+  const double diff = r.values[std::size_t(i)] - truth;
+  e[name].push_back({diff / r.stderrs[std::size_t(i)], diff / std::abs(truth)});
+}
+
+/// One line per parameter: mean z, sd of z, mean relative error ± its SE over the seeds, coverage.
+void print_bias(const std::string& label, const SignedErrors& params) {
+  for (const auto& [name, list] : params) {
+    const double n = double(list.size());
+    double mz = 0, mr = 0, sz = 0, sr = 0;
+    int cover = 0;
+    for (const auto& [z, r] : list) mz += z / n, mr += r / n, cover += std::abs(z) <= 1.959964;
+    for (const auto& [z, r] : list) sz += (z - mz) * (z - mz) / (n - 1), sr += (r - mr) * (r - mr) / (n - 1);
+    std::printf("  %-28s %-26s mean z %+6.2f (+-%.2f) sd z %5.2f  mean rel.err %+7.2f %% +- %5.2f %%  cover %d/%d\n",
+                label.c_str(), name.c_str(), mz, 1 / std::sqrt(n), std::sqrt(sz), 100 * mr, 100 * std::sqrt(sr / n), cover,
+                int(n));
+  }
+}
+
 std::vector<Term> terms(std::initializer_list<const char*> names) {
   std::vector<Term> t;
   for (auto* n : names) t.push_back(Term::parse(n));
@@ -147,6 +172,7 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
   std::printf("%-5s %-8s | %-6s %8s %-40s | %-6s %7s %7s %6s %7s %7s\n", "seed", "samples", "before", "rel.err", "before support",
               "exact", "max|z|", "rel.err", "cover", "seconds", "cpu");
   int exact = 0, within = 0, covered = 0, total = 0, before_exact = 0;
+  SignedErrors signed_errors;
   for (int s = 0; s < seeds; ++s) {
     const std::uint64_t seed = 1000 + std::uint64_t(s);
     const double sd = sd_of(simulate(truth, dt, 2, T, seed, 0.0).x);
@@ -176,6 +202,9 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
         std::fprintf(stderr, "  %-18s %12.6g +- %10.3g\n", r.parameters[i].name.c_str(), r.values[i], r.stderrs[i]);
     const bool ok_support = same_support(r.model.model, truth) && ((noise > 0) == (r.find("measurement_sd") >= 0));
     const Score sc = score(r, truth, noise);
+    for (const auto& tc : truth.drift) record_signed(signed_errors, r, "drift[" + tc.term.name() + "]", tc.coef);
+    for (const auto& tc : truth.diffusion) record_signed(signed_errors, r, "diffusion[" + tc.term.name() + "]", tc.coef);
+    if (noise > 0) record_signed(signed_errors, r, "measurement_sd", noise);
     exact += ok_support;
     before_exact += same_support(before.model, truth);
     within += sc.max_z <= 3.0 && sc.max_rel <= 0.05;
@@ -188,9 +217,13 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
     std::fflush(stdout);
   }
   std::printf("summary %s dt %.3f noise %.2f: before exact support %d/%d; likelihood exact support %d/%d, "
-              "all within 3 SE and 5 %% %d/%d, 95 %% coverage %.1f %% (%d/%d)\n\n",
+              "all within 3 SE and 5 %% %d/%d, 95 %% coverage %.1f %% (%d/%d)\n",
               which.c_str(), dt, noise_share, before_exact, seeds, exact, seeds, within, seeds,
               100.0 * covered / std::max(total, 1), covered, total);
+  std::printf("per parameter over seeds (measurement_sd: relative to its own truth, which varies by seed): mean z, sd of z, "
+              "mean relative error +- its SE (the bias estimate), 95 %% coverage\n");
+  print_bias(which, signed_errors);
+  std::printf("\n");
   return 0;
 }
 
@@ -252,14 +285,15 @@ Effect effect(EffectId id, std::map<std::string, double> p) {
   return e;
 }
 
-int effects(int seeds) {
+int effects(int seeds, int first_seed, const std::string& only) {
   std::printf("# dynamic effects by the likelihood (dt 0.25, 1 %% sensor noise, start: truth +20 %%, omega +0.1 %%)\n");
   std::printf("%-28s %-5s %8s %8s | worst effect param: rel.err, |z|\n", "effect", "seed", "max|z|", "rel.err");
   std::map<std::string, std::pair<int, int>> tally;
   // per effect and parameter: signed z and signed relative error of every seed (bias vs tail)
-  std::map<std::string, std::map<std::string, std::vector<std::pair<double, double>>>> signed_errors;
+  std::map<std::string, SignedErrors> signed_errors;
   for (const std::string which : {"electromechanical_coupling", "colored_noise", "harmonic_forcing"}) {
-    for (int s = 0; s < seeds; ++s) {
+    if (!only.empty() && which != only) continue;
+    for (int s = first_seed; s < first_seed + seeds; ++s) {
       likelihood::ObservedModel truth{bistable(), 0.01, {}};
       Dataset d;
       const std::uint64_t seed = 700 + std::uint64_t(s);
@@ -291,7 +325,11 @@ int effects(int seeds) {
       for (auto& p : start.record_phases) p += 0.2;
       likelihood::RefineOptions o;
       o.per_record_phase = which == "harmonic_forcing";
+      if (std::getenv("VEHS_PROGRESS")) o.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
       const auto r = likelihood::refine(start, d, o);
+      if (std::getenv("VEHS_PROGRESS"))
+        for (std::size_t i = 0; i < r.parameters.size(); ++i)
+          std::fprintf(stderr, "  %-18s %12.6g +- %10.3g\n", r.parameters[i].name.c_str(), r.values[i], r.stderrs[i]);
       double max_z = 0, rel = 0, ez = 0;
       auto one = [&](const std::string& name, double v, bool is_effect) {
         const int i = r.find(name);
@@ -325,27 +363,18 @@ int effects(int seeds) {
     std::printf("summary %s: all within 3 SE and effect params within 15 %%: %d/%d\n", k.c_str(), v.first, v.second);
   std::printf("per parameter over seeds: mean z (its SE 1/sqrt(n) if the SEs are calibrated), sd of z, mean relative "
               "error +- its SE, 95 %% coverage\n");
-  for (const auto& [which, params] : signed_errors)
-    for (const auto& [name, list] : params) {
-      const double n = double(list.size());
-      double mz = 0, mr = 0, sz = 0, sr = 0;
-      int cover = 0;
-      for (const auto& [z, r] : list) mz += z / n, mr += r / n, cover += std::abs(z) <= 1.959964;
-      for (const auto& [z, r] : list) sz += (z - mz) * (z - mz) / (n - 1), sr += (r - mr) * (r - mr) / (n - 1);
-      std::printf("  %-28s %-26s mean z %+6.2f (+-%.2f) sd z %5.2f  mean rel.err %+7.2f %% +- %5.2f %%  cover %d/%d\n",
-                  which.c_str(), name.c_str(), mz, 1 / std::sqrt(n), std::sqrt(sz), 100 * mr, 100 * std::sqrt(sr / n), cover,
-                  int(n));
-    }
+  for (const auto& [which, params] : signed_errors) print_bias(which, params);
   std::printf("\n");
   return 0;
 }
 
-int speed() {
+int speed(double max_samples) {
   std::printf("# speed: bistable Duffing (dt 0.35, 2 %% sensor noise), refine from a 10 %%-perturbed start, "
               "5 parameters, observed-information SEs; %d threads\n", omp_get_max_threads());
   std::printf("%-10s %8s %8s %8s %8s %10s\n", "samples", "wall s", "cpu s", "grads", "substeps", "us/sample");
   const Model truth = bistable();
   for (double T : {35000.0, 105000.0, 350000.0}) {
+    if (T / 0.35 > 1.01 * max_samples) break;
     const Dataset d = simulate(truth, 0.35, 10, T / 10.0, 77, 0.02);
     likelihood::ObservedModel start{truth, 0.02, {}};
     for (auto& tc : start.model.drift) tc.coef *= 1.1;
@@ -573,8 +602,8 @@ int main(int argc, char** argv) {
     if (cmd == "synthetic")
       return synthetic(argc > 2 ? argv[2] : "bistable", arg(3, 0.35), arg(4, 0.0), int(arg(5, 20)), arg(6, 8000), int(arg(7, 10)));
     if (cmd == "driven") return driven(int(arg(2, 20)));
-    if (cmd == "effects") return effects(int(arg(2, 20)));
-    if (cmd == "speed") return speed();
+    if (cmd == "effects") return effects(int(arg(2, 20)), int(arg(3, 0)), argc > 4 ? argv[4] : "");
+    if (cmd == "speed") return speed(arg(2, 1e6));
     if (cmd == "gaussian") return gaussian();
     if (cmd == "silverbox") return silverbox(argc > 2 ? argv[2] : "data/silverbox/SNLS80mV.csv");
     std::fprintf(stderr, "usage: bench_likelihood synthetic|driven|effects|speed|silverbox|gaussian ...\n");

@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # The likelihood benchmarks of issue 12, written to bench/results/likelihood_<part>.txt:
-#   bench/likelihood.sh [silverbox] [narx] [synthetic] [paper] [driven] [effects] [speed] [gaussian]
-# (no argument: all). `narx` installs SysIdentPy (PyPI; an optional dependency of this
+#   bench/likelihood.sh [silverbox] [narx] [synthetic] [paper] [driven] [effects] [speed] [gaussian] [long]
+# (no argument: all but long). `paper` is paper10 paper10noise paper05 paper05noise (the paper's
+# model at omega_max*dt 1.0 and 0.5, without and with 2 % sensor noise), each its own results
+# file and part; `long` re-runs the omega*dt 1.0 cases with 4x the records (long_paper,
+# long_bistable): the per-parameter bias over the seeds when the SEs are well under 5 %. `narx` installs SysIdentPy (PyPI; an optional dependency of this
 # benchmark only) into build/bench-venv and fits polynomial NARX models on the same Silverbox
 # split. Long: run under nice; the synthetic part takes about an hour on 2 cores.
 set -euo pipefail
@@ -11,7 +14,7 @@ out="$root/bench/results"
 mkdir -p "$out"
 parts=("$@")
 [ ${#parts[@]} -eq 0 ] && parts=(silverbox narx synthetic paper driven effects speed gaussian)
-bench="$build/bench/bench_likelihood"
+bench="${VEHS_BENCH_LIKELIHOOD:-$build/bench/bench_likelihood}"  # (a copy: rebuilds cannot touch a running study)
 # build it unless present (a rebuild with other settings would rebuild the whole tree)
 [ -x "$bench" ] || "$root/scripts/build.sh" bench_likelihood >/dev/null
 cd "$root"
@@ -22,7 +25,8 @@ run() {  # run PART COMMAND...: output to a temporary file, moved into place whe
   mv "$tmp" "$out/likelihood_$part.txt"
   cat "$out/likelihood_$part.txt"
 }
-for p in "${parts[@]}"; do
+for ((i = 0; i < ${#parts[@]}; ++i)); do
+  p="${parts[$i]}"
   case "$p" in
     silverbox) run silverbox "$bench" silverbox data/silverbox/SNLS80mV.csv ;;
     narx)
@@ -36,14 +40,17 @@ for p in "${parts[@]}"; do
         '$bench' synthetic bistable 0.35 0.02 20 2000 8
         '$bench' synthetic bistable 0.7  0    20 2000 8
         '$bench' synthetic bistable 0.7  0.02 20 2000 8" ;;
-    paper)
-      run paper bash -c "
-        '$bench' synthetic paper 0.118 0    ${PAPER_SEEDS:-20} 1000 8
-        '$bench' synthetic paper 0.118 0.02 ${PAPER_SEEDS:-20} 1000 8
-        '$bench' synthetic paper 0.236 0    ${PAPER_SEEDS:-20} 1000 8
-        '$bench' synthetic paper 0.236 0.02 ${PAPER_SEEDS:-20} 1000 8" ;;
+    paper) parts+=(paper10 paper10noise paper05 paper05noise) ;;
+    paper10) run paper10 "$bench" synthetic paper 0.236 0 "${PAPER_SEEDS:-20}" 1000 8 ;;
+    paper10noise) run paper10noise "$bench" synthetic paper 0.236 0.02 "${PAPER_SEEDS:-20}" 1000 8 ;;
+    paper05) run paper05 "$bench" synthetic paper 0.118 0 "${PAPER_SEEDS:-20}" 1000 8 ;;
+    paper05noise) run paper05noise "$bench" synthetic paper 0.118 0.02 "${PAPER_SEEDS:-20}" 1000 8 ;;
+    long) parts+=(long_paper long_bistable) ;;
+    long_paper) run long_paper "$bench" synthetic paper 0.236 0 "${PAPER_SEEDS:-20}" 1000 32 ;;
+    long_bistable) run long_bistable "$bench" synthetic bistable 0.7 0 "${SEEDS:-20}" 2000 32 ;;
     driven) run driven "$bench" driven "${SEEDS:-20}" ;;
     effects) run effects "$bench" effects "${SEEDS:-20}" ;;
+    effects_harmonic) run effects_harmonic "$bench" effects "${SEEDS:-20}" 0 harmonic_forcing ;;
     speed) run speed "$bench" speed ;;
     gaussian) run gaussian "$bench" gaussian ;;
     *) echo "likelihood.sh: unknown part '$p'" >&2; exit 2 ;;

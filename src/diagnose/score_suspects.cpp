@@ -387,6 +387,9 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
   rep.records = data.records.size();
   Context c{model, data, measurement_sd, options, typical_frequency(data), {}, {}};
   c.test_options.filter.threads = options.threads;
+  // the recorded input applied between samples as in the fit (issue 12)
+  if (model.fit) c.test_options.filter.input = model.fit->input;
+  rep.input = c.test_options.filter.input;
   c.test_options.estimate_measurement_noise = measurement_sd > 0.0;
 
   if (data.records.size() >= 8) {

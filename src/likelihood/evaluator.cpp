@@ -179,7 +179,8 @@ bool first_failure(const std::vector<EvaluationFailure>& fails, EvaluationFailur
 
 }  // namespace
 
-bool Evaluator::value(const double* theta, double& ll, EvaluationFailure* failure) const {
+bool Evaluator::record_values(const double* theta, std::vector<double>& per_record,
+                              EvaluationFailure* failure) const {
   std::vector<double> part(blocks_.size(), 0.0);
   std::vector<EvaluationFailure> fails;
   for_blocks(blocks_, threads_, fails, [&](std::size_t i, EvaluationFailure& f) {
@@ -190,8 +191,16 @@ bool Evaluator::value(const double* theta, double& ll, EvaluationFailure* failur
     part[i] = run_block(p_.structure(), c, b, settings_, NoSink{}, f);
   });
   if (!first_failure(fails, failure)) return false;
+  per_record.assign(data_.records.size(), 0.0);
+  for (std::size_t i = 0; i < blocks_.size(); ++i) per_record[blocks_[i].record] += part[i];
+  return true;
+}
+
+bool Evaluator::value(const double* theta, double& ll, EvaluationFailure* failure) const {
+  std::vector<double> per_record;
+  if (!record_values(theta, per_record, failure)) return false;
   ll = 0.0;
-  for (double v : part) ll += v;
+  for (double v : per_record) ll += v;
   if (!std::isfinite(ll)) {
     if (failure) *failure = {true, 0, 0, "the log-likelihood is not finite"};
     return false;

@@ -203,3 +203,62 @@ TEST_CASE("identify-vehs: harmonic forcing with one phase per record (amplitude 
     CHECK(std::abs(std::remainder(lf.record_phases[r] - phases[r], 2 * M_PI)) <= bound * se);
   }
 }
+
+TEST_CASE("identify-vehs with the likelihood: a filter that diverges, an input shorter than the record and a "
+          "sampling mismatch between files fail with one line naming the problem, nothing written",
+          "[tools][likelihood][errors]") {
+  const fs::path dir = work_dir();
+  const fs::path out = dir / "never_bad.json";
+  auto run_case = [&](const std::string& name, const std::string& data_json, const std::string& keys,
+                      const std::vector<std::string>& mentions) {
+    CAPTURE(name);
+    const fs::path cfg = dir / (name + ".json");
+    write_text(cfg, R"({"data": )" + data_json + R"(, "output": ")" + out.string() + "\", " + keys + "}");
+    fs::remove(out);
+    std::string err;
+    CHECK(run_identify({cfg.string(), "--quiet"}, &err) == 1);
+    INFO(err);
+    for (const auto& m : mentions) CHECK(err.find(m) != std::string::npos);
+    CHECK(std::count(err.begin(), err.end(), '\n') == 1);
+    CHECK(!fs::exists(out));
+  };
+  // a stiff oscillator (omega = 5) sampled at dt 0.7 and filtered with one RK4 step per sample
+  // (omega*h = 3.5, beyond RK4's stability limit 2.83): the moment equations blow up
+  {
+    const Model stiff = vehs_lik_test::model(R"({"drift": {"x": -25.0, "y": -0.5}, "diffusion": {"1": 1.0}})");
+    const fs::path data = dir / "stiff.csv";
+    write_measurements(data.string(), vehs_lik_test::simulate(stiff, 0.7, 1, 700.0, 3),
+                       WriteColumns{false, false, 17});
+    run_case("diverges", "\"" + data.string() + "\"",
+             R"("drift_library": ["x", "y"], "diffusion_library": ["1"], "sparsity": "none", "estimator": "likelihood",
+                "likelihood": {"substeps": 1, "select": false})",
+             {"likelihood", "diverged", "stiff.csv"});
+  }
+  // an input column that stops before x does: under the reader's default policy the record is
+  // split there with a warning (rows without an input are missing values: io/measurements.hpp);
+  // with "on_gap": "fail" it is an error naming the file and line
+  {
+    const fs::path data = dir / "short_u.csv";
+    std::ofstream f(data);
+    f << "t,x,u\n";
+    for (int k = 0; k < 400; ++k) {
+      f << 0.7 * k << "," << std::sin(0.7 * k) << ",";
+      if (k < 300) f << std::cos(0.3 * k);
+      f << "\n";
+    }
+    f.close();
+    run_case("short_u", "\"" + data.string() + "\"",
+             R"("columns": {"x": "x", "u": "u"}, "drift_library": ["x", "y", "u"], "diffusion_library": ["1"],
+                "estimator": "likelihood", "sampling": {"on_gap": "fail"})",
+             {"short_u.csv", "u"});
+  }
+  // two files sampled at different intervals
+  {
+    const fs::path a = dir / "dt07.csv", b = dir / "dt035.csv";
+    write_measurements(a.string(), bistable_data(0.7, 1, 300.0, 4), WriteColumns{false, false, 17});
+    write_measurements(b.string(), bistable_data(0.35, 1, 300.0, 5), WriteColumns{false, false, 17});
+    run_case("mismatch", "[\"" + a.string() + "\", \"" + b.string() + "\"]",
+             R"("drift_library": ["x", "x^3", "y"], "diffusion_library": ["1"], "estimator": "likelihood")",
+             {"dt035.csv"});
+  }
+}

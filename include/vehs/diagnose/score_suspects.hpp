@@ -77,6 +77,9 @@ struct ScoreSuspectReport {
   std::vector<std::pair<std::string, std::string>> untested;
   std::size_t samples = 0, records = 0;
   double threshold = 0.0;  ///< per-effect p threshold (alpha / tested)
+  /// How the filter applied the recorded input between samples: as the model was fitted
+  /// (Model::fit->input), zero-order hold for a model without fit information.
+  InputInterpolation input = InputInterpolation::ZeroOrderHold;
   std::string note;        ///< non-empty when the tests could not run at all
 };
 

@@ -10,19 +10,52 @@
 // propagate returns false). Time is always double: nothing is differentiated with respect to
 // it. (Written so that it can be swapped for the project's generic stepper once the steppers
 // are generic over system, state and scalar type.)
+#include "vehs/likelihood/detail/flatten.hpp"
+
 namespace vehs::likelihood {
 
+namespace detail {
+/// out = s + a·k, element by element with compound operators (no scalar temporaries: with
+/// ceres::Jet every temporary is a vector of derivatives).
+template <class State>
+void rk4_stage(const State& s, double a, const State& k, State& out) {
+  for (decltype(s.size()) j = 0; j < s.size(); ++j) {
+    out[j] = k[j];
+    out[j] *= a;
+    out[j] += s[j];
+  }
+}
+/// acc += a·k, element by element.
+template <class State>
+void rk4_accumulate(double a, const State& k, State& acc) {
+  for (decltype(acc.size()) j = 0; j < acc.size(); ++j) {
+    auto v = k[j];
+    v *= a;
+    acc[j] += v;
+  }
+}
+}  // namespace detail
+
 template <class State, class Rhs>
-bool rk4_propagate(const Rhs& rhs, double t0, double duration, int substeps, State& s) {
+VEHS_FLATTEN bool rk4_propagate(const Rhs& rhs, double t0, double duration, int substeps, State& s) {
   const double h = duration / substeps;
-  State k1, k2, k3, k4;
+  State k, stage, next;
   for (int i = 0; i < substeps; ++i) {
     const double t = t0 + i * h;
-    if (!rhs(t, s, k1)) return false;
-    if (!rhs(t + 0.5 * h, State(s + (0.5 * h) * k1), k2)) return false;
-    if (!rhs(t + 0.5 * h, State(s + (0.5 * h) * k2), k3)) return false;
-    if (!rhs(t + h, State(s + h * k3), k4)) return false;
-    s += (h / 6.0) * (k1 + 2.0 * (k2 + k3) + k4);
+    // next = s + h/6 (k1 + 2 k2 + 2 k3 + k4), accumulated stage by stage
+    if (!rhs(t, s, k)) return false;
+    next = s;
+    detail::rk4_accumulate(h / 6.0, k, next);
+    detail::rk4_stage(s, 0.5 * h, k, stage);
+    if (!rhs(t + 0.5 * h, stage, k)) return false;
+    detail::rk4_accumulate(h / 3.0, k, next);
+    detail::rk4_stage(s, 0.5 * h, k, stage);
+    if (!rhs(t + 0.5 * h, stage, k)) return false;
+    detail::rk4_accumulate(h / 3.0, k, next);
+    detail::rk4_stage(s, h, k, stage);
+    if (!rhs(t + h, stage, k)) return false;
+    detail::rk4_accumulate(h / 6.0, k, next);
+    s = next;
   }
   return true;
 }

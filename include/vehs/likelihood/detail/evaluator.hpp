@@ -53,6 +53,8 @@ class Evaluator {
 
   /// Log-likelihood at θ; false (with `failure`) when the filter fails.
   bool value(const double* theta, double& ll, EvaluationFailure* failure) const;
+  /// Log-likelihood of every record at θ (per_record[r], r over Dataset::records).
+  bool record_values(const double* theta, std::vector<double>& per_record, EvaluationFailure* failure) const;
   /// Value and gradient (and optionally Fisher information, batch scores).
   bool derivatives(const double* theta, Derivatives& out, bool fisher, bool batches,
                    EvaluationFailure* failure) const;

@@ -7,6 +7,8 @@
 #include <array>
 #include <cmath>
 
+#include "vehs/likelihood/detail/flatten.hpp"
+
 namespace vehs::likelihood::detail {
 
 inline constexpr double kSqrt2 = 1.4142135623730950488;
@@ -21,8 +23,8 @@ class GaussianMoments {
   static constexpr int kMaxB = 6;   ///< powers of y up to 5
 
   /// Fills M(a, b) for b ≤ B and a ≤ a_max[b] (a_max non-increasing in b, a_max[b] ≥ 0).
-  void compute(const T& mx, const T& my, const T& pxx, const T& pxy, const T& pyy, const int* a_max,
-               int B) {
+  VEHS_FLATTEN void compute(const T& mx, const T& my, const T& pxx, const T& pxy, const T& pyy,
+                            const int* a_max, int B) {
     at(0, 0) = T(1.0);
     for (int a = 0; a < a_max[0]; ++a) {
       at(a + 1, 0) = mx * at(a, 0);

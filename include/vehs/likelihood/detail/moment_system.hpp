@@ -17,6 +17,7 @@
 
 #include <Eigen/Core>
 
+#include "vehs/likelihood/detail/flatten.hpp"
 #include "vehs/likelihood/detail/gaussian_expectations.hpp"
 #include "vehs/likelihood/detail/input_path.hpp"
 #include "vehs/likelihood/detail/model_structure.hpp"
@@ -56,7 +57,7 @@ class MomentSystem {
   }
 
   /// ds/dt; false when E[a22] < 0 or a variance is not positive (outside the model's domain).
-  bool operator()(double t, const State& s, State& ds) const {
+  VEHS_FLATTEN bool operator()(double t, const State& s, State& ds) const {
     using std::cos;
     using std::sqrt;
     const T& mx = s[0];
