@@ -1,4 +1,6 @@
 // vehs.identify: identify-vehs's estimator keys, records read in place.
+#include <optional>
+
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
 
@@ -7,6 +9,8 @@
 #include "records.hpp"
 #include "tools/identify_file.hpp"
 #include "tools/identify_tool.hpp"
+#include "tools/likelihood_refinement.hpp"
+#include "tools/measurement_config.hpp"
 
 namespace vehs::python {
 
@@ -23,19 +27,40 @@ std::shared_ptr<const Dataset> detrended(const Records& records, const tools::Co
   return copy;
 }
 
+/// The refinement as the report states it: whether the likelihood was used and why.
+nlohmann::ordered_json refinement_json(const tools::Refinement& f) {
+  nlohmann::ordered_json j;
+  j["used"] = f.result.has_value();
+  j["sampling"] = f.adequacy.reason;
+  if (f.result) {
+    j["log_likelihood"] = f.result->log_likelihood;
+    j["bic"] = f.result->bic;
+  }
+  return j;
+}
+
+/// identify-vehs's fit (tools::identify_fit: the moment fit, refined by the likelihood when
+/// asked or needed) of records in memory; the report holds the model file's report sections,
+/// the units when given and "likelihood" (used, sampling adequacy, log L, BIC).
 std::pair<ModelFile, std::string> identify_records(const Records& records, const std::string& options_json,
                                                    nb::object progress) {
-  const tools::Config c = config_from_json(options_json, "vehs.identify", tools::identify_schema(),
-                                           {"data", "output", "columns", "dt", "study"});
-  identify::Options o = tools::identify_options(c);
+  const tools::Config c = config_from_json(
+      options_json, "vehs.identify", tools::identify_schema(),
+      {"data", "output", "columns", "mat_variable", "dt", "sampling", "figures", "study"});
+  (void)tools::identify_options(c);  // the options are checked before the GIL is released
+  (void)tools::likelihood_settings(c);
+  const nlohmann::ordered_json units = tools::units_block(c);
   const std::shared_ptr<const Dataset> data = detrended(records, c);
-  identify::Result r = run_released(std::move(progress), false, [&](const ProgressCallback& cb) {
-    o.progress = cb;
-    return identify::identify(*data, o);
+  std::optional<Dataset> ranged;
+  tools::IdentifyFit fit = run_released(std::move(progress), false, [&](const ProgressCallback& cb) {
+    return tools::identify_fit(c, *data, cb, {}, ranged);
   });
+  identify::Result& r = fit.result;
   validate_model(r.model, "vehs.identify");
   ModelFile f;
   f.sections = tools::identify_report_sections(r);
+  if (!units.empty()) f.sections["units"] = units;
+  f.sections["likelihood"] = refinement_json(fit.refinement);
   f.model = std::move(r.model);
   return {f, json_text(f.sections)};
 }
