@@ -11,6 +11,7 @@
 #include "tools/identify_tool.hpp"
 #include "tools/likelihood_refinement.hpp"
 #include "tools/measurement_config.hpp"
+#include "tools/study_output.hpp"
 
 namespace vehs::python {
 
@@ -65,9 +66,27 @@ std::pair<ModelFile, std::string> identify_records(const Records& records, const
   return {f, json_text(f.sections)};
 }
 
+/// identify-vehs's consistency study (the seed paper's Table 4): the `study` object and the
+/// moment estimator's keys; the study's JSON as identify-vehs writes it, with its Table 4 text.
+std::string identify_study(const std::string& options_json, nb::object progress) {
+  const tools::Config c = config_from_json(
+      options_json, "vehs.identify_study", tools::identify_schema(),
+      {"output", "columns", "mat_variable", "dt", "sampling", "figures", "samples", "detrend", "units"});
+  if (!c.has("study")) c.fail("study", "is missing (the truth and the grid of dt and samples)");
+  identify::StudyOptions so = tools::study_options(c);
+  const identify::StudyResult r = run_released(std::move(progress), false, [&](const ProgressCallback& cb) {
+    so.progress = cb;
+    return identify::run_study(so);
+  });
+  nlohmann::ordered_json j = tools::study_to_json(r);
+  j["table"] = tools::study_text(r);
+  return json_text(j);
+}
+
 }  // namespace
 
 void bind_identify(nb::module_& m) {
+  m.def("identify_study", &identify_study, nb::arg("options"), nb::arg("progress").none());
   m.def("identify", &identify_records, nb::arg("records"), nb::arg("options"), nb::arg("progress").none());
 }
 

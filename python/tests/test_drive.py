@@ -103,3 +103,23 @@ def test_likelihood_errors_are_the_cli_messages():
         vehs.identify(x.x[0], dt=0.01, samples=[0, 5])
     with pytest.raises(vehs.Error, match="unknown key 'figures'"):
         vehs.identify(x, figures="out")  # files are the CLI's business
+
+
+def test_identify_study_gives_the_cli_study(tmp_path, cli):
+    """identify-vehs's consistency study (Table 4) from Python: the same JSON as the CLI's."""
+    truth = vehs.Model.paper(0.1, {1: -1.0, 3: 1.0}, 0.02, 0.01)
+    truth.save(tmp_path / "truth.json")
+    study = {"dt": [0.01], "samples": [2000], "repeats": 2, "records": 2, "seed": 3}
+    keys = {"drift_library": {"K1": 4, "K2": 1}, "diffusion_library": {"M": 0}}
+    cli("identify-vehs", dict(keys, study=dict(study, truth=str(tmp_path / "truth.json")),
+                              output=str(tmp_path / "study.json")), tmp_path)
+    ref = json.loads((tmp_path / "study.json").read_text())
+    got = vehs.identify_study(dict(study, truth=truth), **keys)
+    assert got["table"].strip()
+
+    def numbers(study):  # everything but the timings
+        return [{k: v for k, v in p.items() if not k.startswith("seconds")} for p in study["points"]]
+
+    assert numbers(got) == numbers(ref) and got["points"] and got.keys() - {"table"} == ref.keys() - {"config"}
+    with pytest.raises(vehs.Error, match="runs the moment estimators only"):
+        vehs.identify_study(dict(study, truth=truth), estimator="likelihood")

@@ -332,6 +332,9 @@ identify::Options identify_options(const Config& c) {
 }
 
 identify::StudyOptions study_options(const Config& c) {
+  if (c.has("data")) c.fail("data", "cannot be combined with 'study' (the study simulates its data)");
+  if (c.has("likelihood") || c.string_or("estimator", "auto") == "likelihood")
+    c.fail("study", "runs the moment estimators only (the likelihood studies are bench/likelihood.sh)");
   const Config s = c.object("study", {"truth", "dt", "samples", "repeats", "records", "scheme",
                                       "substeps", "x0", "seed", "sensor_noise", "burn_in"});
   StudyOptions o;
@@ -382,9 +385,6 @@ IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressC
 int run_identify(Config& c, const AppOptions& app) {
   const std::string output = c.string("output");
   if (c.has("study")) {
-    if (c.has("data")) c.fail("data", "cannot be combined with 'study' (the study simulates its data)");
-    if (c.has("likelihood") || c.string_or("estimator", "auto") == "likelihood")
-      c.fail("study", "runs the moment estimators only (the likelihood studies are bench/likelihood.sh)");
     StudyOptions so = study_options(c);
     so.progress = app.progress;
     const StudyResult r = run_study(so);

@@ -21,7 +21,7 @@ const ConfigSchema& identify_schema();
 /// Options of the estimator from a config (libraries, effects, estimator, sparsity...).
 identify::Options identify_options(const Config& c);
 
-/// Study options from the config's `study` object.
+/// Study options from the config's `study` object (no `data`, moment estimators only).
 identify::StudyOptions study_options(const Config& c);
 
 /// What identify-vehs fits: identify's result (its model refined by the likelihood when the
