@@ -1,12 +1,13 @@
 """Python and Dask against the CLI (issue 16), run by bench/python.sh:
 
 1. The Fig. 5a sweep (data/fpk/fig5a.json: 7 x 7 points, 200^2 cells): fpk-stationary on 2
-   threads vs vehs.dask.sweep on a LocalCluster of 2 single-thread workers (2 tasks, and one task
-   per point); the same E[Y^2] at every point (bitwise), wall times, and the overhead per task.
+   threads vs vehs.dask.sweep on a LocalCluster of 2 single-thread workers (2, 8 and 49 tasks, or
+   BLOCKS=...); the same E[Y^2] at every point (bitwise), wall and CPU times (the workers' CPU
+   seconds from inside them), and the overhead per task.
 2. identify on 10^7 samples (the paper's data: 100 records x 10^5): identify-vehs on the .npy
    (whole run, and the identification alone as it reports it) vs vehs.identify on the same array
-   in memory (one copy into the library) and on Records (no copy); wall times, best of REPEATS,
-   the same threads.
+   in memory (one copy into the library) and on Records (no copy); wall and CPU times, best of
+   REPEATS, the same threads. The load average is printed before and after each study.
 """
 import json
 import os
@@ -116,15 +117,18 @@ def identify_study(work):
         cli.append(run_cli("identify-vehs", cfg, work, cli_cpu))
         cli_identify.append(json.loads(Path(cfg["output"]).read_text())["fit"]["seconds"])
     x = np.ascontiguousarray(np.load(npy)["x"].reshape(sim["trajectories"], -1))  # the array in memory
+    # the CLI's dt, as its reader estimates it from the file's t column (1.5e-18 below 0.001 for
+    # these 10^7 samples: with dt = 0.001 itself the coefficients differ at 1e-13 relative)
+    dt = json.loads(Path(cfg["output"]).read_text())["data"]["dt"]
 
     def timed(call):
         start, cpu0 = time.perf_counter(), time.process_time()
         out = call()
         return out, time.perf_counter() - start, time.process_time() - cpu0
 
-    array_runs = [timed(lambda: vehs.identify(x, dt=sim["dt"])) for _ in range(REPEATS)]
+    array_runs = [timed(lambda: vehs.identify(x, dt=dt)) for _ in range(REPEATS)]
     model = array_runs[0][0][0]
-    records = vehs.as_records(x, dt=sim["dt"])
+    records = vehs.as_records(x, dt=dt)
     records_runs = [timed(lambda: vehs.identify(records)) for _ in range(REPEATS)]
     learned = vehs.Model.load(cfg["output"])
     same = all(model.to_dict()["drift"][k] == v for k, v in learned.drift.items())
