@@ -1,8 +1,8 @@
 """Python and Dask against the CLI (issue 16), run by bench/python.sh:
 
 1. The Fig. 5a sweep (data/fpk/fig5a.json: 7 x 7 points, 200^2 cells): fpk-stationary on 2
-   threads vs vehs.dask.sweep on a LocalCluster of 2 single-thread workers (2, 8 and 49 tasks, or
-   BLOCKS=...); the same E[Y^2] at every point (bitwise), wall and CPU times (the workers' CPU
+   threads vs vehs.dask.sweep on a LocalCluster of 2 single-thread workers (its default tasks and
+   2 tasks, or BLOCKS=default,2,8,49); the same E[Y^2] at every point (bitwise), wall and CPU times (the workers' CPU
    seconds from inside them), and the overhead per task.
 2. identify on 10^7 samples (the paper's data: 100 records x 10^5): identify-vehs on the .npy
    (whole run, and the identification alone as it reports it) vs vehs.identify on the same array
@@ -26,7 +26,8 @@ import vehs.dask
 REPO = Path(__file__).resolve().parents[1]
 BIN = Path(os.environ.get("VEHS_BIN_DIR", REPO / "build"))
 REPEATS = int(os.environ.get("REPEATS", "3"))
-BLOCKS = [int(b) for b in os.environ.get("BLOCKS", "").split(",") if b]  # tasks per Dask sweep (default 2, 8, all)
+# tasks per Dask sweep: "default" (vehs.dask.sweep's choice: one per point up to 16 per worker) or a number
+BLOCKS = [None if b == "default" else int(b) for b in os.environ.get("BLOCKS", "default,2").split(",") if b]
 
 
 def child_cpu():
@@ -81,7 +82,7 @@ def sweep_study(work):
         startup = time.perf_counter() - start
         client.run(lambda: __import__("vehs"))  # workers import the package once
         rows = []
-        for blocks in BLOCKS or (2, 8, count):
+        for blocks in BLOCKS:
             times, cpus = [], []
             for _ in range(REPEATS):
                 cpu0, client0 = workers_cpu(client), time.process_time()
@@ -90,7 +91,7 @@ def sweep_study(work):
                 cpus.append(workers_cpu(client) - cpu0 + time.process_time() - client0)
                 same = all(p == q for p, q in zip(got["points"], ref["points"]))
                 assert same and len(got["points"]) == count, "dask sweep differs from the CLI sweep"
-            rows.append((blocks, min(times), min(cpus), got["task_seconds"]))
+            rows.append((got["tasks"], min(times), min(cpus), got["task_seconds"]))
     cli_sweep = min(cli_times) - min(base_times)
     cli_sweep_cpu = min(cli_cpu) - min(base_cpu)
     print(f"Fig. 5a sweep, {count} points, grid {cfg['grid']}: E[X^2], E[Y^2], E[XY], wells identical to the CLI at every point")
@@ -101,7 +102,8 @@ def sweep_study(work):
         per_task = (t - cli_sweep) / blocks
         print(f"  vehs.dask.sweep, {blocks:3d} tasks: {t:.2f} s wall = {t / cli_sweep:.3f} x the CLI sweep; "
               f"overhead {per_task * 1e3:+.0f} ms per task; {cpu:.1f} CPU s (workers + client) = "
-              f"{cpu / cli_sweep_cpu:.3f} x the CLI sweep's, {(cpu - cli_sweep_cpu) / blocks * 1e3:+.0f} ms per task")
+              f"{cpu / cli_sweep_cpu:.3f} x the CLI sweep's, {(cpu - cli_sweep_cpu) / blocks * 1e3:+.0f} ms per task; "
+              f"task times {min(task_seconds):.2f} to {max(task_seconds):.2f} s")
     print(f"after: {load()}")
 
 

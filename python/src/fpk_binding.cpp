@@ -1,5 +1,7 @@
 // vehs.stationary and the sweep: fpk-stationary's keys; the density handed to NumPy without a
 // copy; sweeps solved whole or by blocks of points that merge exactly (SweepOptions::block_*).
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <utility>
 
@@ -96,8 +98,8 @@ SweepPlan analysed_plan(const ModelFile& model, const std::string& options_json,
 }
 
 /// The sweep's JSON (fpk-stationary's "sweep" section); with last > 0 only the points
-/// [first, last) are solved, the others carry the error "outside the block". With a plan
-/// (of this model and options) no grid envelope or analysis is made here.
+/// [first, last) are solved and listed (a block's result stays the size of the block). With a
+/// plan (of this model and options) no grid envelope or analysis is made here.
 std::string sweep_block(const ModelFile& model, const std::string& options_json, std::size_t first,
                         std::size_t last, nb::object progress, const SweepPlan* plan) {
   const tools::FpkSettings st = sweep_settings(model, options_json);
@@ -105,10 +107,15 @@ std::string sweep_block(const ModelFile& model, const std::string& options_json,
   so.block_first = first;
   so.block_last = last;
   so.plan = plan ? plan->plan.get() : nullptr;
-  const fpk::SweepResult sw = run_released(std::move(progress), false, [&](const ProgressCallback& cb) {
+  fpk::SweepResult sw = run_released(std::move(progress), false, [&](const ProgressCallback& cb) {
     so.progress = cb;
     return fpk::sweep(model.model, st.axes, st.grid, so);
   });
+  if (last > 0) {
+    const std::size_t count = sw.points.size(), lo = std::min(first, count), hi = std::min(std::max(last, lo), count);
+    sw.points = std::vector<fpk::SweepPoint>(sw.points.begin() + static_cast<std::ptrdiff_t>(lo),
+                                             sw.points.begin() + static_cast<std::ptrdiff_t>(hi));
+  }
   return json_text(tools::sweep_to_json(sw));
 }
 

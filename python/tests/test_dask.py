@@ -26,8 +26,9 @@ def test_dask_sweep_equals_the_cli_sweep(repo, tmp_path, cli, client):
     ref = json.loads((tmp_path / "fpk.json").read_text())["sweep"]
     model = vehs.Model.load(repo / "data/fpk/learned_model.json")
     assert sum("error" not in p for p in ref["points"]) >= 2  # points failing on the boundary mass fail alike
-    for blocks in (2, 4):  # one task per worker, one task per point
+    for blocks in (2, None):  # one task per worker; the default: one task per point
         got = vehs.dask.sweep(client, model, SWEEP, grid=GRID, blocks=blocks)
+        assert got["tasks"] == (blocks or 4)
         assert got["grid"] == ref["grid"]
         assert len(got["points"]) == 4 and got["failed_points"] == ref["failed_points"]
         for p, q in zip(got["points"], ref["points"]):
