@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Python and Dask overhead against the CLI (bench/python_overhead.py; results in
 # bench/results/python.txt). Builds the tools and the package (scripts/test.sh's venv) first.
-#   bench/python.sh [sweep] [identify]
+#   bench/python.sh [sweep] [identify]     (REPEATS=3: best of; BLOCKS=default,2: Dask tasks per sweep)
+# e.g. the Fig. 5a sweep, CLI vs vehs.dask.sweep's default tasks, once:
+#   REPEATS=1 BLOCKS=default bench/python.sh sweep
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${VEHS_BUILD_DIR:-$root/build}"

@@ -26,14 +26,18 @@ def test_dask_sweep_equals_the_cli_sweep(repo, tmp_path, cli, client):
     ref = json.loads((tmp_path / "fpk.json").read_text())["sweep"]
     model = vehs.Model.load(repo / "data/fpk/learned_model.json")
     assert sum("error" not in p for p in ref["points"]) >= 2  # points failing on the boundary mass fail alike
-    for blocks in (2, 4):  # one task per worker, one task per point
+    for blocks in (2, None):  # one task per worker; the default: one task per point
         got = vehs.dask.sweep(client, model, SWEEP, grid=GRID, blocks=blocks)
+        assert got["tasks"] == (blocks or 4)
         assert got["grid"] == ref["grid"]
         assert len(got["points"]) == 4 and got["failed_points"] == ref["failed_points"]
         for p, q in zip(got["points"], ref["points"]):
             assert p == q  # parameters, E[X^2], E[Y^2], E[XY], boundary mass, wells: bitwise
     local = vehs.sweep(model, SWEEP, grid=GRID)
     assert local["points"] == ref["points"]
+    # a worker analyses a sweep once: its later blocks reuse the symbolic factorisation
+    kept = client.run(lambda: len(__import__("vehs.dask").dask._PLANS))
+    assert all(n <= 1 for n in kept.values()) and sum(kept.values()) >= 1, kept
 
 
 def test_dask_ensemble_equals_one_run_and_the_cli(client, cli, tmp_path):
@@ -51,3 +55,23 @@ def test_dask_ensemble_equals_one_run_and_the_cli(client, cli, tmp_path):
         assert merged["stderr"][name] == one["stderr"][name] == ref["stderr"][name]
     assert merged["record_means"] == one["record_means"]
     assert merged["counts"] == one["counts"]  # histograms: the same counts
+
+
+def test_small_dask_ensembles_merge_the_batch_means(client, cli, tmp_path):
+    """Fewer than 16 records: the standard errors come from every record's batch means, merged
+    over blocks exactly as one run computes them."""
+    model = vehs.Model.paper(0.1, {1: -1.0, 3: 1.0}, 0.02, 0.01)
+    model.save(tmp_path / "model.json")
+    opts = dict(duration=40, dt=0.01, substeps=2, seed=4)
+    stats = {"discard": 2, "batches": 8}
+    cli("simulate-vehs", dict(opts, model=str(tmp_path / "model.json"), trajectories=5,
+                              statistics=dict(stats, output=str(tmp_path / "mc.json"))), tmp_path)
+    ref = json.loads((tmp_path / "mc.json").read_text())
+    one = vehs.monte_carlo(model, trajectories=5, statistics=stats, **opts)
+    merged = vehs.dask.ensemble(client, model, 5, block=2, statistics=stats, **opts)  # blocks of 2, 2, 1
+    assert merged["error_method"] == one["error_method"] == ref["error_method"] == "batch means"
+    for name in ("E[X^2]", "E[Y^2]", "E[XY]", "E[X^4]"):
+        assert merged[name] == one[name] == ref[name]
+        assert merged["stderr"][name] == one["stderr"][name] == ref["stderr"][name]
+    with pytest.raises(vehs.Error, match="'statistics.batches' is not used"):
+        vehs.dask.ensemble(client, model, 16, block=8, statistics=stats, **dict(opts, duration=10))

@@ -21,19 +21,47 @@ def _core(model):
     return model._core
 
 
-def simulate(model, progress=None, **options):
+def _drive(u):
+    """A recorded drive as the library takes it: a list of 1-D float64 arrays (one shared by all
+    trajectories, or one per trajectory), from a 1-D array, a 2-D array (one row per trajectory)
+    or a list of 1-D arrays."""
+    if u is None:
+        return None
+    if isinstance(u, (list, tuple)) and u and np.ndim(u[0]) == 1:
+        rows = list(u)
+    else:
+        a = np.asarray(u, dtype=np.float64)
+        if a.ndim not in (1, 2):
+            raise _vehs.Error(f"drive: must be 1-D (shared by all trajectories) or 2-D (one row per trajectory), got {a.ndim}-D")
+        rows = [a] if a.ndim == 1 else list(a)
+    return [np.ascontiguousarray(r, dtype=np.float64) for r in rows]
+
+
+def simulate(model, progress=None, drive=None, statistics=None, **options):
     """Records of the model (simulate-vehs's keys: trajectories, duration, dt, substeps, scheme,
-    seed, x0, y0, burn_in, sensor_noise, record_velocity, first_record, ...). The arrays of the
-    returned Records are the simulator's own memory (no copy)."""
-    return Records(_vehs.simulate(_core(model), options_json("vehs.simulate", options), progress))
+    seed, x0, y0, burn_in, sensor_noise, record_velocity, first_record, record_phases, ...). The
+    arrays of the returned Records are the simulator's own memory (no copy).
+
+    ``drive``: the recorded drive u for a model with a 'u' term, sampled at dt — one series (1-D)
+    shared by all trajectories, or one per trajectory (2-D, or a list); applied as
+    simulate-vehs applies its drive file (held per step, or interpolated as the model was fitted).
+    ``statistics`` ({} for the defaults; discard, grid, batches): the Monte Carlo statistics of
+    the same run as well, in ``records.statistics`` (as :func:`monte_carlo` returns them)."""
+    if statistics is not None:
+        options["statistics"] = statistics
+    core, stats = _vehs.simulate(_core(model), options_json("vehs.simulate", options), progress, _drive(drive))
+    records = Records(core)
+    records.statistics = json.loads(stats) if stats else None
+    return records
 
 
-def monte_carlo(model, progress=None, statistics=None, **options):
+def monte_carlo(model, progress=None, statistics=None, drive=None, **options):
     """Monte Carlo statistics while simulating (no records kept): simulate-vehs's keys with
-    ``statistics`` ({} for the defaults; discard, grid, batches). Returns simulate-vehs's
-    statistics JSON as a dict plus ``record_means`` (each record's mean of every moment)."""
+    ``statistics`` ({} for the defaults; discard, grid, batches) and ``drive`` as for
+    :func:`simulate`. Returns simulate-vehs's statistics JSON as a dict plus ``record_means``
+    (each record's mean of every moment)."""
     options["statistics"] = {} if statistics is None else statistics
-    text = _vehs.monte_carlo(_core(model), options_json("vehs.monte_carlo", options), progress)
+    text = _vehs.monte_carlo(_core(model), options_json("vehs.monte_carlo", options), progress, _drive(drive))
     return json.loads(text)
 
 
@@ -47,6 +75,22 @@ def identify(x, dt=None, u=None, progress=None, **options):
     records = as_records(x, dt, u)
     core, report = _vehs.identify(records._core, options_json("vehs.identify", options), progress)
     return Model(_core=core), json.loads(report)
+
+
+def identify_study(study, progress=None, **options):
+    """identify-vehs's consistency study (the seed paper's Table 4): simulate the truth on a grid
+    of dt x samples, identify every repeat, tabulate mean (sd) and the coverage of the 95 %
+    intervals. ``study`` is the config's study object (truth: a Model, a dict or a model file;
+    dt, samples, repeats, records, scheme, substeps, x0, seed, sensor_noise, burn_in); options are
+    the moment estimator's keys. Returns the study's JSON as a dict, with ``table`` the Table 4
+    text identify-vehs prints."""
+    study = dict(study)
+    if isinstance(study.get("truth"), Model):
+        study["truth"] = study["truth"].to_dict()
+    elif study.get("truth") is not None and not isinstance(study["truth"], dict):
+        study["truth"] = str(study["truth"])
+    options["study"] = study
+    return json.loads(_vehs.identify_study(options_json("vehs.identify_study", options), progress))
 
 
 @dataclass

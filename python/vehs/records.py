@@ -14,6 +14,7 @@ class Records:
 
     def __init__(self, core):
         self._core = core
+        self.statistics = None  # vehs.simulate(..., statistics=...): the Monte Carlo statistics of the run
 
     def _shaped(self, flat):
         sizes = self.sizes

@@ -275,32 +275,32 @@ MonteCarloStatistics finalize(const detail::RunContext& ctx, const StatisticsOpt
   const std::size_t B = ctx.batches, n = st.samples_per_record;
   const bool spread = static_cast<int>(records) >= so.min_records_for_spread;
   st.error_method = spread ? "independent records" : "batch means";
+  for (std::size_t b = 0; b < B; ++b) st.batch_lengths.push_back(static_cast<double>((b + 1) * n / B - b * n / B));
   for (int m = 0; m < detail::kMoments; ++m) {
     if (m == 6 && !with_v) continue;
     std::vector<Estimate> groups;
     std::vector<double> weights;
-    std::vector<double> means(records);
+    std::vector<double> means(records), batch_means(records * B);
     for (std::size_t r = 0; r < records; ++r) {
       const double* sums = ctx.batch_sums.data() + (r * detail::kMoments + static_cast<std::size_t>(m)) * B;
       double record_total = 0.0;
       for (std::size_t b = 0; b < B; ++b) record_total += sums[b];
       means[r] = record_total / static_cast<double>(n);
+      for (std::size_t b = 0; b < B; ++b) batch_means[r * B + b] = sums[b] / st.batch_lengths[b];
       if (spread) {
-        double total = 0.0;
-        for (std::size_t b = 0; b < B; ++b) total += sums[b];
-        groups.push_back({total / static_cast<double>(n), 0.0});
+        groups.push_back({means[r], 0.0});
         weights.push_back(static_cast<double>(n));
       } else {
         for (std::size_t b = 0; b < B; ++b) {
-          const double len = static_cast<double>((b + 1) * n / B - b * n / B);
-          groups.push_back({sums[b] / len, 0.0});
-          weights.push_back(len);
+          groups.push_back({batch_means[r * B + b], 0.0});
+          weights.push_back(st.batch_lengths[b]);
         }
       }
     }
     st.moments.emplace_back(detail::kMomentNames[static_cast<std::size_t>(m)],
                             combine_independent(groups, weights));
     st.record_means.push_back(std::move(means));
+    st.batch_means.push_back(std::move(batch_means));
   }
   if (ctx.histograms) {
     st.has_histograms = true;

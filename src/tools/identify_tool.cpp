@@ -5,6 +5,8 @@
 #include <tuple>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <optional>
 #include <iostream>
 #include <sstream>
 
@@ -330,6 +332,9 @@ identify::Options identify_options(const Config& c) {
 }
 
 identify::StudyOptions study_options(const Config& c) {
+  if (c.has("data")) c.fail("data", "cannot be combined with 'study' (the study simulates its data)");
+  if (c.has("likelihood") || c.string_or("estimator", "auto") == "likelihood")
+    c.fail("study", "runs the moment estimators only (the likelihood studies are bench/likelihood.sh)");
   const Config s = c.object("study", {"truth", "dt", "samples", "repeats", "records", "scheme",
                                       "substeps", "x0", "seed", "sensor_noise", "burn_in"});
   StudyOptions o;
@@ -355,12 +360,31 @@ identify::StudyOptions study_options(const Config& c) {
   return o;
 }
 
+IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressCallback& progress,
+                         const std::function<void(const std::string&)>& log, std::optional<Dataset>& ranged) {
+  Options o = identify_options(c);
+  o.progress = progress;
+  LikelihoodSettings lik = likelihood_settings(c);
+  lik.options.log = log;
+  if (c.has("samples")) ranged = sample_range(c, loaded);
+  const Dataset& data = ranged ? *ranged : loaded;
+  // the default folds only feed the CV figures under the BIC criterion: fewer on small data
+  if (!c.has("folds") && o.criterion == identify::Criterion::Bic)
+    o.folds = static_cast<int>(std::clamp<std::size_t>(data.total_samples() / 100, 2, static_cast<std::size_t>(o.folds)));
+  if (static_cast<std::size_t>(o.folds) * 100 > data.total_samples())
+    c.fail("folds", "= " + std::to_string(o.folds) + " leaves fewer than 100 samples per fold (the data have " +
+                        std::to_string(data.total_samples()) + ")");
+  IdentifyFit fit{identify::identify(data, o), {}};
+  Options quiet = o;
+  quiet.progress = {};
+  fit.refinement = refine_moment_fit(fit.result.model, data, lik,
+                                     [&](const Dataset& one) { return identify::identify(one, quiet).model; });
+  return fit;
+}
+
 int run_identify(Config& c, const AppOptions& app) {
   const std::string output = c.string("output");
   if (c.has("study")) {
-    if (c.has("data")) c.fail("data", "cannot be combined with 'study' (the study simulates its data)");
-    if (c.has("likelihood") || c.string_or("estimator", "auto") == "likelihood")
-      c.fail("study", "runs the moment estimators only (the likelihood studies are bench/likelihood.sh)");
     StudyOptions so = study_options(c);
     so.progress = app.progress;
     const StudyResult r = run_study(so);
@@ -375,29 +399,20 @@ int run_identify(Config& c, const AppOptions& app) {
     return 0;
   }
   if (!c.has("data")) c.fail("data", "is missing (list the measurement files, or give 'study')");
-  Options o = identify_options(c);
-  o.progress = app.progress;
-  LikelihoodSettings lik = likelihood_settings(c);
-  if (!app.quiet) lik.options.log = [](const std::string& line) { std::cerr << line << "\n"; };
-  bool need_u = false;
-  for (const auto& t : o.drift_library) need_u = need_u || t.depends_on_u();
+  bool need_u = false;  // the options are checked before any file is read
+  for (const auto& t : identify_options(c).drift_library) need_u = need_u || t.depends_on_u();
+  (void)likelihood_settings(c);
   const nlohmann::ordered_json units = units_block(c);
   const auto files = c.string_list("data");
   LoadedData loaded = load_measurements(c, need_u, app);
-  Dataset& data = loaded.data;
   const std::string& detrend = loaded.detrend;
-  // the default folds only feed the CV figures under the BIC criterion: fewer on small data
-  if (!c.has("folds") && o.criterion == identify::Criterion::Bic)
-    o.folds = static_cast<int>(std::clamp<std::size_t>(data.total_samples() / 100, 2, static_cast<std::size_t>(o.folds)));
-  if (static_cast<std::size_t>(o.folds) * 100 > data.total_samples())
-    c.fail("folds", "= " + std::to_string(o.folds) + " leaves fewer than 100 samples per fold (the data have " +
-                        std::to_string(data.total_samples()) + ")");
-  if (c.has("samples")) data = sample_range(c, data);
-  identify::Result r = identify::identify(data, o);
-  Options quiet = o;
-  quiet.progress = {};
-  const Refinement refinement =
-      refine_moment_fit(r.model, data, lik, [&](const Dataset& one) { return identify::identify(one, quiet).model; });
+  std::function<void(const std::string&)> log;
+  if (!app.quiet) log = [](const std::string& line) { std::cerr << line << "\n"; };
+  std::optional<Dataset> ranged;
+  IdentifyFit fit = identify_fit(c, loaded.data, app.progress, log, ranged);
+  const Dataset& data = ranged ? *ranged : loaded.data;
+  identify::Result& r = fit.result;
+  const Refinement& refinement = fit.refinement;
   // data summary and provenance
   nlohmann::ordered_json ds;
   ds["files"] = files;

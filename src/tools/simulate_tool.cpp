@@ -165,9 +165,22 @@ void read_grid_axis(const Config& g, const std::string& axis, double& lo, double
   n = static_cast<std::size_t>(nd);
 }
 
+/// The drive series (from `name`) as the options' drive: one shared, or one per trajectory.
+void assign_drive(const Config& c, const std::string& name, std::vector<std::vector<double>> series,
+                  SimulationOptions& o) {
+  if (series.size() == 1) {
+    o.drive = std::move(series[0]);
+  } else if (series.size() == static_cast<std::size_t>(o.records)) {
+    o.drive_per_record = std::move(series);
+  } else {
+    c.fail("drive", name + " has " + std::to_string(series.size()) +
+                        " records: give one (shared) or one per trajectory (" + std::to_string(o.records) + ")");
+  }
+}
+
 }  // namespace
 
-SimulateJob simulate_job_from_config(const Config& c) {
+SimulateJob simulate_job_from_config(const Config& c, const std::vector<std::vector<double>>* drive) {
   SimulateJob job;
   job.config_file = c.file();
   ModelFile model_file = model_from_config_value(c.raw("model"), c.where("model"));
@@ -237,7 +250,10 @@ SimulateJob simulate_job_from_config(const Config& c) {
   o.allow_unconfined = c.boolean_or("allow_unconfined", false);
 
   // drive
-  if (c.has("drive")) {
+  if (drive) {
+    if (c.has("drive")) c.fail("drive", "is given both as a file and in memory");
+    assign_drive(c, "the drive", *drive, o);
+  } else if (c.has("drive")) {
     const Config d = c.object("drive", {"path", "column", "t_column"});
     ReadOptions ro;
     ro.x_column = d.string_or("column", "u");
@@ -245,21 +261,15 @@ SimulateJob simulate_job_from_config(const Config& c) {
     ro.dt = o.dt;
     ro.read_u = false;
     const std::string path = d.string("path");
-    Dataset drive = read_measurements(path, ro);
-    for (const auto& r : drive.records)
+    const Dataset file = read_measurements(path, ro);
+    std::vector<std::vector<double>> series;
+    for (const auto& r : file.records) {
       if (std::abs(r.dt - o.dt) > 1e-6 * o.dt)
         c.fail("drive", path + " record " + std::to_string(r.id) + " is sampled at " + num(r.dt) +
                             " but dt = " + num(o.dt) + " (resample the drive first)");
-    if (drive.records.size() == 1) {
-      o.drive.assign(drive.x.begin(), drive.x.end());
-    } else if (drive.records.size() == static_cast<std::size_t>(o.records)) {
-      for (const auto& r : drive.records)
-        o.drive_per_record.emplace_back(drive.x_of(r), drive.x_of(r) + r.size);
-    } else {
-      c.fail("drive", path + " has " + std::to_string(drive.records.size()) +
-                          " records: give one (shared) or one per trajectory (" +
-                          std::to_string(o.records) + ")");
+      series.emplace_back(file.x_of(r), file.x_of(r) + r.size);
     }
+    assign_drive(c, path, std::move(series), o);
   }
 
   if (c.has("output")) {
@@ -340,12 +350,12 @@ void decimate(Dataset& d, std::size_t factor, double dt) {
 
 }  // namespace
 
-int run_simulate_job(const SimulateJob& job, const AppOptions& app) {
+SimulateRun simulate_job(const SimulateJob& job, const ProgressCallback& progress) {
   SimulationOptions o = job.options;
-  o.progress = app.progress;
-  SimulationSummary summary;
-  Dataset data;
-  MonteCarloStatistics stats;
+  o.progress = progress;
+  SimulateRun run;
+  SimulationSummary& summary = run.summary;
+  Dataset& data = run.data;
   // A model fitted with an interpolated input (estimator.input) is driven the same way: the
   // simulator holds its drive per step, so it steps at dt/substeps with the interpolated input
   // at each step's midpoint and every substeps-th sample is kept.
@@ -363,7 +373,7 @@ int run_simulate_job(const SimulateJob& job, const AppOptions& app) {
     o.substeps = 1;
   }
   if (job.with_statistics) {
-    stats = simulate_statistics(job.model, o, job.statistics, &summary, job.output.empty() ? nullptr : &data);
+    run.statistics = simulate_statistics(job.model, o, job.statistics, &summary, job.output.empty() ? nullptr : &data);
   } else if (!job.record_phases.empty()) {
     // one run per record with its phase; first_record keeps each record's random stream
     SimulationOptions one = o;
@@ -390,10 +400,16 @@ int run_simulate_job(const SimulateJob& job, const AppOptions& app) {
   } else {
     simulate(job.model, o, data, &summary);
   }
-  if (interpolated) {
-    decimate(data, factor, job.options.dt);
-    o = job.options;
-  }
+  if (interpolated) decimate(data, factor, job.options.dt);
+  return run;
+}
+
+int run_simulate_job(const SimulateJob& job, const AppOptions& app) {
+  const SimulationOptions& o = job.options;
+  SimulateRun run = simulate_job(job, app.progress);
+  const Dataset& data = run.data;
+  const MonteCarloStatistics& stats = run.statistics;
+  const SimulationSummary& summary = run.summary;
 
   if (!job.output.empty()) {
     WriteColumns cols;

@@ -3,10 +3,13 @@
 // SimulationOptions / StatisticsOptions, and running a parsed job (simulate, write the records and
 // the statistics). apps/simulate_vehs.cpp calls simulate_main; tests use the parts directly.
 #include <string>
+#include <vector>
 
 #include "tools/app.hpp"
 #include "tools/config.hpp"
+#include "vehs/core/dataset.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/core/progress.hpp"
 #include "vehs/sim/simulate.hpp"
 
 namespace vehs::tools {
@@ -31,8 +34,21 @@ struct SimulateJob {
 const ConfigSchema& simulate_schema();
 
 /// Parses and checks a loaded config (model, options, drive file, statistics); throws a
-/// one-line vehs::Error naming the file and key.
-SimulateJob simulate_job_from_config(const Config& config);
+/// one-line vehs::Error naming the file and key. `drive`: the recorded drive in memory, sampled
+/// at dt (one series shared by all trajectories, or one per trajectory; vehs.simulate), instead
+/// of the config's drive file.
+SimulateJob simulate_job_from_config(const Config& config,
+                                     const std::vector<std::vector<double>>* drive = nullptr);
+
+/// What a job simulates: the records (unless the job only wants statistics), the statistics
+/// (with_statistics) and the run's summary; a drive is applied as the model was fitted
+/// (estimator.input) and record_phases run record by record.
+struct SimulateRun {
+  Dataset data;
+  sim::MonteCarloStatistics statistics;
+  sim::SimulationSummary summary;
+};
+SimulateRun simulate_job(const SimulateJob& job, const ProgressCallback& progress);
 
 /// Runs a job: simulates, writes the outputs atomically, reports on stderr unless quiet.
 /// Returns the exit status (0).

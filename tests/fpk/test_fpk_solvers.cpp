@@ -230,6 +230,42 @@ TEST_CASE("sweep blocks: a block's points equal the same points of the whole swe
   }
 }
 
+TEST_CASE("sweep plans: one grid envelope and one analysis serve every block", "[fpk][sweep]") {
+  // plan_sweep once (a Dask client), analyse_sweep once (a worker), the blocks solved with it:
+  // the whole sweep's points, bitwise; a plan of another sweep is refused
+  const vehs::Model base =
+      fpk_fixtures::model(R"({"drift": {"x": 1, "x^3": -1, "y": -0.3}, "diffusion": {"1": 0.0194, "x^2": 0.0116}})");
+  const std::vector<SweepAxis> axes = {{"2D", {0.015, 0.025}}, {"2Q", {0.008, 0.0116}}};
+  GridRequest req;
+  req.grid.x.n = req.grid.y.n = 80;
+  const SweepResult whole = sweep(base, axes, req);
+  SweepPlan plan = plan_sweep(base, axes, req);
+  CHECK(plan.grid.x.min == whole.grid.x.min);
+  CHECK(plan.grid.y.max == whole.grid.y.max);
+  CHECK(plan.errors == std::vector<std::string>(4));
+  CHECK(!plan.analysis);
+  SweepPlan grid_only = plan;
+  analyse_sweep(plan, base, axes);
+  REQUIRE(plan.analysis);
+  for (const SweepPlan* given : {&plan, &grid_only}) {  // without its analysis, the block makes it
+    for (const auto& [first, last] : std::vector<std::pair<std::size_t, std::size_t>>{{0, 3}, {3, 4}}) {
+      SweepOptions o;
+      o.block_first = first;
+      o.block_last = last;
+      o.plan = given;
+      const SweepResult part = sweep(base, axes, req, o);
+      for (std::size_t k = first; k < last; ++k) {
+        INFO("block [" << first << ", " << last << "), point " << k << ", analysed plan " << (given == &plan));
+        CHECK(part.points[k].moments.eyy == whole.points[k].moments.eyy);  // bitwise
+        CHECK(part.points[k].moments.exx == whole.points[k].moments.exx);
+      }
+    }
+  }
+  SweepOptions o;
+  o.plan = &plan;
+  CHECK_THROWS_WITH(sweep(base, {{"2D", {0.015, 0.02, 0.025}}}, req, o), Contains("the plan has 4 points, the sweep 3"));
+}
+
 TEST_CASE("parameters by name follow the contract's signs", "[fpk][sweep]") {
   vehs::Model m = fpk_fixtures::paper_learned();
   CHECK(vehs::get_parameter(m, "beta") == Approx(0.1010));

@@ -133,6 +133,11 @@ struct MonteCarloStatistics {
   /// record_means[k][r]: the mean of moment k (order of `moments`) over record r's used samples,
   /// for derived quantities with honest error bars (e.g. an energy-balance residual).
   std::vector<std::vector<double>> record_means;
+  /// batch_means[k][r·B + b]: the mean of moment k over batch b of record r (B contiguous
+  /// batches of the used samples, batch_lengths samples each, the same for every record): what
+  /// merges blocks of records into the batch-means errors of a small ensemble (vehs.dask).
+  std::vector<std::vector<double>> batch_means;
+  std::vector<double> batch_lengths;
   Histogram1D px, py;
   Histogram2D pxy;
   bool has_histograms = false;
