@@ -7,11 +7,14 @@
 # sanitizer report, hang or memory blow-up and leaves the reproducer in build-fuzz/findings/.
 #   bench/fuzz/run.sh                 all four targets
 #   bench/fuzz/run.sh csv_reader      one target (csv_reader, npy_reader, json_config, model_file)
-# Environment: VEHS_FUZZ_RUNS (executions per target), VEHS_FUZZ_BUILD_DIR (default ./build-fuzz).
+# Environment: VEHS_FUZZ_RUNS (executions per target), VEHS_FUZZ_SECONDS (a time limit per target
+# instead: the line then says how many executions it reached, the rate, and the hours 10^7 needs),
+# VEHS_FUZZ_BUILD_DIR (default ./build-fuzz). Run it under `nice -n 10` on a shared machine.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 build="${VEHS_FUZZ_BUILD_DIR:-$root/build-fuzz}"
 runs="${VEHS_FUZZ_RUNS:-10000000}"
+seconds="${VEHS_FUZZ_SECONDS:-0}"
 VEHS_WITH_FUZZ=1 "$root/scripts/install-deps.sh"
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(csv_reader npy_reader json_config model_file)
@@ -28,10 +31,13 @@ for t in "${targets[@]}"; do
   mkdir -p "$work"
   log="$build/fuzz_$t.log"
   start=$(date +%s)
-  if "$build/bench/fuzz/fuzz_$t" -runs="$runs" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+  if /usr/bin/time -f "%U %S" -o "$log.cpu" "$build/bench/fuzz/fuzz_$t" -runs="$runs" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
        -print_final_stats=1 -artifact_prefix="$build/findings/$t-" "$work" "$root/bench/fuzz/corpus/$t" >"$log" 2>&1; then
-    echo "fuzz_$t: $(grep -m1 'stat::number_of_executed_units' "$log" | awk '{print $2}') executions," \
-         "no crash, sanitizer report or hang ($(( $(date +%s) - start )) s; log $log)"
+    n=$(grep -m1 'stat::number_of_executed_units' "$log" | awk '{print $2}')
+    rate=$(grep -m1 'stat::average_exec_per_sec' "$log" | awk '{print $2}')
+    echo "fuzz_$t: $n executions, no crash, sanitizer report or hang ($(( $(date +%s) - start )) s," \
+         "$rate exec/s: 10^7 take $(awk -v r="$rate" 'BEGIN { printf "%.1f", r > 0 ? 1e7 / r / 3600 : 0 }') h;" \
+         "$(awk '{ printf "%.0f", $1 + $2 }' "$log.cpu") CPU s; load average $(cut -d' ' -f1-3 /proc/loadavg); log $log)"
   else
     status=1
     echo "fuzz_$t: FINDING after $(( $(date +%s) - start )) s: $(grep -m1 -E 'ERROR|SUMMARY|timeout|deadly' "$log")"

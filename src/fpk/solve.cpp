@@ -252,8 +252,30 @@ void normalize(std::vector<double>& p, double area) {
 }
 
 /// Direct solve: LU of A with equation r replaced by the normalisation row.
+/// UMFPACK's two phases on A, each announced through `log` before it starts (a large grid takes
+/// minutes inside them without a word) and timed.
+void factorize_logged(DirectSolverCache::Impl& lu, const SparseMatrix& A, const Grid& g,
+                      const std::function<void(const std::string&)>& log) {
+  const std::string cells = std::to_string(g.x.n) + "x" + std::to_string(g.y.n) + " cells";
+  auto t0 = Clock::now();
+  double symbolic = 0.0;
+  if (!lu.matches(A)) {
+    if (log) log("factorising " + cells + " (symbolic)...");
+    lu.analyze(A);
+    symbolic = seconds_since(t0);
+    t0 = Clock::now();
+  }
+  if (log) log("factorising " + cells + " (numeric)...");
+  lu.factorize(A);
+  if (log)
+    log("factorised in " + vehs::detail::format_number(symbolic, 3) + " s (symbolic) + " +
+        vehs::detail::format_number(seconds_since(t0), 3) + " s (numeric), " +
+        vehs::detail::format_number(lu.factor_megabytes(), 3) + " MB of factors");
+}
+
 std::vector<double> solve_direct(const FpkModel& model, SparseMatrix& A, const Grid& g,
                                  DirectSolverCache* cache, Ordering ordering, SolveSummary& sum,
+                                 const std::function<void(const std::string&)>& log,
                                  SparseMatrix* high = nullptr, int correction_steps = 0) {
   DirectSolverCache local;
   DirectSolverCache::Impl& lu = detail::SolverAccess::of(cache ? *cache : local);
@@ -266,7 +288,7 @@ std::vector<double> solve_direct(const FpkModel& model, SparseMatrix& A, const G
     SavedRow saved = set_normalization_row(A, r, s);
     rhs.assign(n, 0.0);
     rhs[r] = s;
-    lu.factorize(A);
+    factorize_logged(lu, A, g, log);
     lu.solve(A, rhs.data(), p.data());
     if (high && correction_steps > 0) {
       // defect correction towards the high-order operator: p ← p + A⁻¹(b − H p)
@@ -382,6 +404,11 @@ double estimated_solve_bytes(std::size_t cells, const SolveOptions& options) {
   return n * (680.0 + 27.5 * std::log2(std::max(n, 2.0))) + 2e7;
 }
 
+double estimated_solve_seconds(std::size_t cells, const SolveOptions& options) {
+  if (options.solver != Solver::Direct) return 0.0;
+  return 1.1 * std::pow(static_cast<double>(cells) / 160000.0, 1.5);
+}
+
 StationaryResult solve_stationary(const FpkModel& model, const Grid& grid, const SolveOptions& options,
                                   DirectSolverCache* reuse) {
   if (auto why = options.invalid_reason(); !why.empty()) throw Error(why);
@@ -405,9 +432,10 @@ StationaryResult solve_stationary(const FpkModel& model, const Grid& grid, const
     case Solver::Direct:
       if (options.scheme == Scheme::Flux && options.correction_steps > 0) {
         SparseMatrix low = assemble_operator(model, grid, Scheme::Flux2);
-        res.density = solve_direct(model, low, grid, reuse, options.ordering, sum, &A, options.correction_steps);
+        res.density = solve_direct(model, low, grid, reuse, options.ordering, sum, options.log, &A,
+                                   options.correction_steps);
       } else {
-        res.density = solve_direct(model, A, grid, reuse, options.ordering, sum);
+        res.density = solve_direct(model, A, grid, reuse, options.ordering, sum, options.log);
       }
       break;
     case Solver::Sor: res.density = solve_sor(A, grid, options.sor, sum); break;

@@ -128,6 +128,7 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
   if (auto why = sweep_options.invalid_reason(); !why.empty()) throw Error("sweep: " + why);
   SolveOptions options = sweep_options.solve;
   options.sor.progress = nullptr;  // the sweep reports points
+  options.log = nullptr;
   const DomainOptions& domain = sweep_options.domain;
   const double tol = domain.boundary_mass_tolerance;
   SweepResult out;

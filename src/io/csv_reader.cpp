@@ -1,10 +1,14 @@
-// CSV as loggers write it (see vehs/io/measurements.hpp): streamed in 4 MiB chunks, one pass.
+// CSV as loggers write it (see vehs/io/measurements.hpp): streamed in chunks of 4 MiB (or the
+// file, when smaller), one pass.
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
+#include <istream>
 #include <limits>
 #include <memory>
+#include <optional>
+#include <string_view>
+#include <unordered_set>
 
 #include <fast_float/fast_float.h>
 
@@ -51,19 +55,21 @@ bool is_comment_or_blank(std::string_view line) {
   return p == std::string_view::npos || line[p] == '#';
 }
 
-std::size_t count_lines(std::FILE* f) {
-  std::vector<char> buf(1 << 22);
-  std::size_t lines = 0, n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), f)) > 0)
-    lines += static_cast<std::size_t>(std::count(buf.data(), buf.data() + n, '\n'));
-  std::rewind(f);
-  return lines + 1;
+/// Lines expected in a stream of `bytes` bytes whose first chunk is `first` (its line density,
+/// extrapolated): the reserve for the columns, without a second pass over the file.
+std::size_t estimate_lines(std::string_view first, std::size_t bytes) {
+  if (first.empty()) return 0;
+  const auto lines = static_cast<double>(std::count(first.begin(), first.end(), '\n') + 1);
+  const double total = static_cast<double>(std::max(bytes, first.size()));
+  return static_cast<std::size_t>(lines * total / static_cast<double>(first.size())) + 1;
 }
 
 class CsvParser {
  public:
-  CsvParser(const std::string& path, const ReadOptions& o, ReadSummary& summary, std::size_t line_estimate)
-      : path_(path), o_(o), summary_(summary), line_estimate_(line_estimate) {}
+  CsvParser(const std::string& path, const ReadOptions& o, ReadSummary& summary)
+      : path_(path), o_(o), summary_(summary) {}
+
+  void set_line_estimate(std::size_t lines) { line_estimate_ = lines; }
 
   void line(std::string_view text) {
     ++line_no_;
@@ -128,7 +134,7 @@ class CsvParser {
   const std::string& path_;
   const ReadOptions& o_;
   ReadSummary& summary_;
-  std::size_t line_estimate_;
+  std::size_t line_estimate_ = 0;
   std::size_t line_no_ = 0;
   char delimiter_ = ',';
   int ncols_ = 0, need_ = 0;
@@ -140,14 +146,20 @@ class CsvParser {
 
 }  // namespace
 
-Dataset read_csv(const std::string& path, const ReadOptions& o, ReadSummary& summary) {
-  const File file = open_measurement_file(path);
-  CsvParser parser(path, o, summary, count_lines(file.get()));
-  std::vector<char> buf(1 << 22);
+Dataset read_csv(std::istream& in, const std::string& path, const ReadOptions& o, ReadSummary& summary,
+                 std::size_t chunk_bytes) {
+  const std::optional<std::size_t> size = bytes_left(in);
+  CsvParser parser(path, o, summary);
+  // one chunk for a small file (no 4 MiB buffer to zero for a few lines)
+  std::vector<char> buf(std::max<std::size_t>(1, size ? std::min(chunk_bytes, *size + 1) : chunk_bytes));
   std::string carry;  // an incomplete line from the previous chunk
-  std::size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), file.get())) > 0) {
+  bool first = true;
+  while (in) {
+    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+    const auto n = static_cast<std::size_t>(in.gcount());
+    if (n == 0) break;
     std::string_view chunk(buf.data(), n);
+    if (first) parser.set_line_estimate(estimate_lines(chunk, size.value_or(n))), first = false;
     std::size_t pos = 0;
     if (!carry.empty()) {
       const auto nl = chunk.find('\n');
@@ -170,7 +182,7 @@ Dataset read_csv(const std::string& path, const ReadOptions& o, ReadSummary& sum
       pos = nl + 1;
     }
   }
-  if (std::ferror(file.get())) throw Error(path + ": read error");
+  if (in.bad()) throw Error(path + ": read error");
   if (!carry.empty()) parser.line(carry);
   return parser.finish();
 }
@@ -179,10 +191,10 @@ ColumnIndex index_columns(const std::vector<std::string>& names, const ReadOptio
                           const char* kind) {
   ColumnIndex c;
   std::string all;
+  std::unordered_set<std::string_view> seen;  // (a header of 10^4 names is checked in linear time)
   for (std::size_t i = 0; i < names.size(); ++i) {
     const std::string& n = names[i];
-    if (!n.empty() && std::find(names.begin(), names.begin() + static_cast<std::ptrdiff_t>(i), n) !=
-                          names.begin() + static_cast<std::ptrdiff_t>(i))
+    if (!n.empty() && !seen.insert(n).second)
       throw Error(path + ": the " + std::string(kind) + " name '" + n + "' appears twice");
     const int k = static_cast<int>(i);
     if (n == o.x_column) c.x = k;

@@ -41,6 +41,14 @@ std::string structural_problem(const std::string& text) {
   return "";
 }
 
+/// The longest prefix of `s` of at most `n` bytes that ends on a UTF-8 character boundary (a cut
+/// inside a character is invalid UTF-8, which nlohmann's dump refuses with an exception).
+std::string utf8_prefix(const std::string& s, std::size_t n) {
+  if (n >= s.size()) return s;
+  while (n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;  // s[n]: a continuation byte
+  return s.substr(0, n);
+}
+
 void append_excerpt(const nlohmann::json& v, std::string& out, std::size_t max_chars) {
   if (out.size() >= max_chars) return;
   if (v.is_array() || v.is_object()) {
@@ -59,7 +67,7 @@ void append_excerpt(const nlohmann::json& v, std::string& out, std::size_t max_c
     out += v.is_array() ? ']' : '}';
     return;
   }
-  std::string s = v.is_string() ? nlohmann::json(v.get<std::string>().substr(0, max_chars)).dump() : v.dump();
+  std::string s = v.is_string() ? nlohmann::json(utf8_prefix(v.get<std::string>(), max_chars)).dump() : v.dump();
   out += s;
 }
 
@@ -68,7 +76,7 @@ void append_excerpt(const nlohmann::json& v, std::string& out, std::size_t max_c
 std::string json_excerpt(const nlohmann::json& v, std::size_t max_chars) {
   std::string out;
   append_excerpt(v, out, max_chars);
-  if (out.size() > max_chars + 3) out = out.substr(0, max_chars) + "...";
+  if (out.size() > max_chars + 3) out = utf8_prefix(out, max_chars) + "...";
   return out;
 }
 

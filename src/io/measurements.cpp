@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <memory>
-#include <sstream>
-
+#include <optional>
 
 #include "vehs/io/atomic_file.hpp"
 #include "readers.hpp"
@@ -153,12 +153,25 @@ void ReadSummary::merge(const ReadSummary& o) {
 
 namespace {
 
-Dataset read_one(const std::string& path, const ReadOptions& options, ReadSummary& summary) {
+/// The reader of a file named `name` (by extension: .npy binary, else CSV) over its bytes.
+Dataset read_format(std::istream& in, const std::string& name, const ReadOptions& options, ReadSummary& s) {
+  if (ends_with(name, ".mat")) throw Error(name + ": .mat files are read from a path (libmatio), not a stream");
+  return ends_with(name, ".npy") ? io_detail::read_npy(in, name, options, s) : io_detail::read_csv(in, name, options, s);
+}
+
+Dataset read_one(const std::string& path, std::istream* in, const ReadOptions& options, ReadSummary& summary) {
   if (auto why = options.invalid_reason(); !why.empty()) throw Error(path + ": " + why);
   ReadSummary s;
-  Dataset d = ends_with(path, ".npy")   ? io_detail::read_npy(path, options, s)
-              : ends_with(path, ".mat") ? io_detail::read_mat(path, options, s)
-                                        : io_detail::read_csv(path, options, s);
+  Dataset d;
+  if (in) {
+    d = read_format(*in, path, options, s);
+  } else if (ends_with(path, ".mat")) {
+    d = io_detail::read_mat(path, options, s);
+  } else {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) throw Error(path + ": cannot open measurement file");
+    d = read_format(file, path, options, s);
+  }
   add_warnings(path, options, s);
   summary.merge(s);
   return d;
@@ -166,9 +179,38 @@ Dataset read_one(const std::string& path, const ReadOptions& options, ReadSummar
 
 }  // namespace
 
+namespace io_detail {
+
+std::optional<std::size_t> bytes_left(std::istream& in) {
+  const std::streampos here = in.tellg();
+  if (here == std::streampos(-1)) {
+    in.clear();
+    return std::nullopt;
+  }
+  in.seekg(0, std::ios::end);
+  const std::streampos end = in.tellg();
+  in.clear();
+  in.seekg(here);
+  if (end == std::streampos(-1) || !in) {
+    in.clear();
+    return std::nullopt;
+  }
+  return end > here ? static_cast<std::size_t>(end - here) : 0;
+}
+
+}  // namespace io_detail
+
 Dataset read_measurements(const std::string& path, const ReadOptions& options, ReadSummary* summary) {
   ReadSummary local;
-  Dataset d = read_one(path, options, summary ? *summary : local);
+  Dataset d = read_one(path, nullptr, options, summary ? *summary : local);
+  if (!(options.dt > 0.0)) pool_intervals(d);
+  return d;
+}
+
+Dataset read_measurements(std::istream& in, const std::string& name, const ReadOptions& options,
+                          ReadSummary* summary) {
+  ReadSummary local;
+  Dataset d = read_one(name, &in, options, summary ? *summary : local);
   if (!(options.dt > 0.0)) pool_intervals(d);
   return d;
 }
@@ -177,8 +219,8 @@ Dataset read_measurements(const std::vector<std::string>& paths, const ReadOptio
   require(!paths.empty(), "no measurement files given");
   ReadSummary local;
   ReadSummary& s = summary ? *summary : local;
-  Dataset all = read_one(paths.front(), options, s);
-  for (std::size_t i = 1; i < paths.size(); ++i) all.append(read_one(paths[i], options, s));
+  Dataset all = read_one(paths.front(), nullptr, options, s);
+  for (std::size_t i = 1; i < paths.size(); ++i) all.append(read_one(paths[i], nullptr, options, s));
   if (!(options.dt > 0.0)) pool_intervals(all);
   return all;
 }

@@ -1,10 +1,13 @@
 // NumPy .npy: a 1-D structured array whose field names are the columns, or a 2-D C-order float
-// array whose columns ReadOptions::columns names. Streamed in 4 MiB chunks.
+// array whose columns ReadOptions::columns names. Streamed in 4 MiB chunks; the header's row count
+// is checked against the stream's length before anything is sized by it.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+#include <istream>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <optional>
 
 #include "readers.hpp"
 #include "vehs/core/error.hpp"
@@ -32,17 +35,17 @@ struct NpyLayout {
 
 void parse_type(const std::string& t, NpyField& f, const std::string& path) {
   if (t.size() < 3 || (t[0] != '<' && t[0] != '|' && t[0] != '=')) unsupported(path, "only little-endian");
-  f.kind = t[1];
-  f.size = std::atoi(t.c_str() + 2);
-  if (!((f.kind == 'f' && (f.size == 4 || f.size == 8)) || (f.kind == 'i' && (f.size == 4 || f.size == 8))))
-    unsupported(path, "field type " + t);
+  const std::string type = t.substr(1);
+  if (type != "f4" && type != "f8" && type != "i4" && type != "i8") unsupported(path, "field type " + t);
+  f.kind = type[0];
+  f.size = type[1] - '0';
 }
 
 std::vector<std::size_t> parse_shape(const std::string& header, const std::string& path) {
   const auto sh = header.find("'shape':");
   if (sh == std::string::npos) unsupported(path, "no shape");
   const auto lp = header.find('(', sh), rp = header.find(')', sh);
-  if (lp == std::string::npos || rp == std::string::npos) unsupported(path, "shape");
+  if (lp == std::string::npos || rp == std::string::npos || rp < lp) unsupported(path, "shape");
   std::vector<std::size_t> shape;
   const std::string inner = header.substr(lp + 1, rp - lp - 1);
   const char* p = inner.c_str();
@@ -64,8 +67,10 @@ NpyLayout parse_header(const std::string& header, const std::string& path, const
   if (ds == std::string::npos) unsupported(path, "no descr");
   NpyLayout l;
   std::size_t pos = header.find_first_not_of(' ', ds + 8);
+  if (pos == std::string::npos) unsupported(path, "descr");
   if (header[pos] == '\'') {  // a plain dtype: one column named x, or a 2-D array with `columns`
     const auto q = header.find('\'', pos + 1);
+    if (q == std::string::npos) unsupported(path, "descr");
     NpyField f;
     parse_type(header.substr(pos + 1, q - pos - 1), f, path);
     if (shape.size() == 1) {
@@ -89,15 +94,21 @@ NpyLayout parse_header(const std::string& header, const std::string& path, const
   }
   if (shape.size() != 1) unsupported(path, "a structured array must be 1-D");
   if (header[pos] != '[') unsupported(path, "descr");
+  const auto close_list = header.find(']', pos);
+  if (close_list == std::string::npos) unsupported(path, "descr list without ']'");
   std::size_t offset = 0;
-  while (true) {
+  while (true) {  // ('name', '<f8') entries up to the list's end, each searched once
     const auto open = header.find('(', pos);
-    const auto close_list = header.find(']', pos);
     if (open == std::string::npos || open > close_list) break;
-    const auto q1 = header.find('\'', open), q2 = header.find('\'', q1 + 1);
-    const auto q3 = header.find('\'', q2 + 1), q4 = header.find('\'', q3 + 1);
     const auto close = header.find(')', open);
-    if (q4 == std::string::npos || q4 > close) unsupported(path, "field entry");
+    if (close == std::string::npos || close > close_list) unsupported(path, "field entry");
+    std::size_t q[4], from = open;
+    for (auto& qi : q) {
+      qi = header.find('\'', from);
+      if (qi == std::string::npos || qi > close) unsupported(path, "field entry");
+      from = qi + 1;
+    }
+    const auto q1 = q[0], q2 = q[1], q3 = q[2], q4 = q[3];
     NpyField f;
     f.name = header.substr(q1 + 1, q2 - q1 - 1);
     parse_type(header.substr(q3 + 1, q4 - q3 - 1), f, path);
@@ -132,32 +143,31 @@ double field_value(const char* row, const NpyField& f) {
   return v;
 }
 
-std::string read_header(std::FILE* f, const std::string& path) {
+bool read_exactly(std::istream& in, char* dst, std::size_t n) {
+  in.read(dst, static_cast<std::streamsize>(n));
+  return static_cast<std::size_t>(in.gcount()) == n;
+}
+
+std::string read_header(std::istream& in, const std::string& path) {
   char magic[8];
-  if (std::fread(magic, 1, 8, f) != 8 || std::memcmp(magic, "\x93NUMPY", 6) != 0)
+  if (!read_exactly(in, magic, 8) || std::memcmp(magic, "\x93NUMPY", 6) != 0)
     throw Error(path + ": not a NumPy .npy file");
   std::size_t hlen = 0;
-  if (magic[6] == 1) {
-    unsigned char b[2];
-    if (std::fread(b, 1, 2, f) != 2) throw Error(path + ": truncated .npy header");
-    hlen = b[0] | (b[1] << 8);
-  } else {
-    unsigned char b[4];
-    if (std::fread(b, 1, 4, f) != 4) throw Error(path + ": truncated .npy header");
-    hlen = b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<std::size_t>(b[3]) << 24);
-  }
+  unsigned char b[4] = {0, 0, 0, 0};
+  if (!read_exactly(in, reinterpret_cast<char*>(b), magic[6] == 1 ? 2 : 4))
+    throw Error(path + ": truncated .npy header");
+  hlen = b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<std::size_t>(b[3]) << 24);
   if (hlen > (std::size_t{1} << 20))  // numpy writes headers of < 10 kB; a length from a corrupt file
     throw Error(path + ": .npy header of " + std::to_string(hlen) + " bytes (corrupt file?)");  // is no allocation size
   std::string header(hlen, '\0');
-  if (std::fread(header.data(), 1, hlen, f) != hlen) throw Error(path + ": truncated .npy header");
+  if (!read_exactly(in, header.data(), hlen)) throw Error(path + ": truncated .npy header");
   return header;
 }
 
 }  // namespace
 
-Dataset read_npy(const std::string& path, const ReadOptions& o, ReadSummary& summary) {
-  const File file = open_measurement_file(path);
-  const NpyLayout layout = parse_header(read_header(file.get(), path), path, o);
+Dataset read_npy(std::istream& in, const std::string& path, const ReadOptions& o, ReadSummary& summary) {
+  const NpyLayout layout = parse_header(read_header(in, path), path, o);
   std::vector<std::string> names;
   std::size_t row_size = 0;
   for (const auto& f : layout.fields) {
@@ -167,19 +177,26 @@ Dataset read_npy(const std::string& path, const ReadOptions& o, ReadSummary& sum
   const ColumnIndex idx = index_columns(names, o, path, "field");
   auto field = [&](int i) -> const NpyField* { return i < 0 ? nullptr : &layout.fields[static_cast<std::size_t>(i)]; };
   const NpyField *fx = field(idx.x), *ft = field(idx.t), *ftraj = field(idx.traj), *fu = field(idx.u), *fy = field(idx.y);
+  // the header's row count is checked against the bytes there are before it sizes anything
+  const std::optional<std::size_t> left = bytes_left(in);
+  const auto truncated = [&] {
+    return Error(path + ": truncated .npy data (expected " + std::to_string(layout.rows) + " rows of " +
+                 std::to_string(row_size) + " bytes)");
+  };
+  if (left && layout.rows > *left / row_size) throw truncated();
+  const std::size_t reserve = left ? layout.rows : std::min<std::size_t>(layout.rows, kChunkBytes);
   Dataset d;
-  d.x.reserve(layout.rows);
-  if (fu) d.u.reserve(layout.rows);
-  if (fy) d.y.reserve(layout.rows);
+  d.x.reserve(reserve);
+  if (fu) d.u.reserve(reserve);
+  if (fy) d.y.reserve(reserve);
   // .npy rows are numbered from 1 in messages ("row 1" is the first)
   RecordBuilder rb(d, path, o, idx.present(), summary, "row");
-  const std::size_t chunk_rows = std::max<std::size_t>(1, (1u << 22) / row_size);
-  std::vector<char> buf(chunk_rows * row_size);
+  const std::size_t chunk_rows = std::max<std::size_t>(1, kChunkBytes / row_size);
+  std::vector<char> buf(std::min(chunk_rows, layout.rows) * row_size);
   std::size_t row = 0;
   while (row < layout.rows) {
     const std::size_t want = std::min(chunk_rows, layout.rows - row);
-    if (std::fread(buf.data(), row_size, want, file.get()) != want)
-      throw Error(path + ": truncated .npy data (expected " + std::to_string(layout.rows) + " rows)");
+    if (!read_exactly(in, buf.data(), want * row_size)) throw truncated();
     for (std::size_t k = 0; k < want; ++k, ++row) {
       const char* p = buf.data() + k * row_size;
       Row r;
@@ -191,7 +208,7 @@ Dataset read_npy(const std::string& path, const ReadOptions& o, ReadSummary& sum
       if (ftraj) {
         const double id = field_value(p, *ftraj);
         if (id != std::floor(id) || !(std::abs(id) < 9e15))  // (a larger id would overflow the conversion)
-          throw Error(path + ": row " + std::to_string(row) + ": record id " + std::to_string(id) +
+          throw Error(path + ": row " + std::to_string(row + 1) + ": record id " + std::to_string(id) +
                       " is not an integer below 9e15");
         r.id = static_cast<long long>(id);
       }

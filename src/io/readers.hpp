@@ -1,7 +1,8 @@
 #pragma once
 // Internal: one reader per file format, each feeding io_detail::RecordBuilder.
-#include <cstdio>
-#include <memory>
+#include <cstddef>
+#include <istream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,22 +14,18 @@
 
 namespace vehs::io_detail {
 
-struct FileCloser {
-  void operator()(std::FILE* f) const {
-    if (f) std::fclose(f);
-  }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
+/// Bytes left in a seekable stream from its position; nullopt when unknown (a pipe).
+std::optional<std::size_t> bytes_left(std::istream& in);
 
-/// Opens a measurement file for binary reading; throws vehs::Error naming it.
-inline File open_measurement_file(const std::string& path) {
-  File f(std::fopen(path.c_str(), "rb"));
-  if (!f) throw Error(path + ": cannot open measurement file");
-  return f;
-}
+/// The chunk the stream readers read at once (a smaller file is read in one).
+constexpr std::size_t kChunkBytes = std::size_t{1} << 22;
 
-Dataset read_csv(const std::string& path, const ReadOptions& o, ReadSummary& summary);
-Dataset read_npy(const std::string& path, const ReadOptions& o, ReadSummary& summary);
+/// The format readers over a stream of a file's bytes; `name` names it in messages and records.
+/// read_csv's `chunk_bytes` is the most it reads at once (the fuzz target varies it).
+Dataset read_csv(std::istream& in, const std::string& name, const ReadOptions& o, ReadSummary& summary,
+                 std::size_t chunk_bytes = kChunkBytes);
+Dataset read_npy(std::istream& in, const std::string& name, const ReadOptions& o, ReadSummary& summary);
+/// .mat files only from a path (libmatio reads files).
 Dataset read_mat(const std::string& path, const ReadOptions& o, ReadSummary& summary);
 
 /// The column roles of a file from its column names (a CSV header, a structured dtype, .mat

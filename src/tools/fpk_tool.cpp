@@ -6,9 +6,9 @@
 
 #include "tools/fpk_output.hpp"
 #include "tools/power.hpp"
-#include "vehs/core/detail/format.hpp"
 #include "vehs/conventions.hpp"
 #include "vehs/core/detail/format.hpp"
+#include "vehs/core/detail/memory.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/core/parameters.hpp"
@@ -235,10 +235,21 @@ int run_fpk(Config& cfg, const AppOptions& app) {
   const DomainOptions& dom = st.domain;
   const GridRequest& req = st.grid;
   const std::vector<SweepAxis>& axes = st.axes;
-  if (const double bytes = estimated_solve_bytes(static_cast<std::size_t>(req.grid.x.n) * req.grid.y.n, opt);
-      bytes > 1e9 && !app.quiet)
-    std::cerr << "fpk-stationary: " << req.grid.x.n << "x" << req.grid.y.n << " cells: about " << bytes / 1e9
-              << " GB of memory per solve (limit: 3/4 of physical memory)\n";
+  if (!app.quiet) {
+    st.solve.log = [](const std::string& line) { std::cerr << "fpk-stationary: " << line << "\n"; };
+    const std::size_t cells = static_cast<std::size_t>(req.grid.x.n) * req.grid.y.n;
+    const double bytes = estimated_solve_bytes(cells, opt), seconds = estimated_solve_seconds(cells, opt);
+    if (bytes > 1e9 || seconds > 5.0)
+      std::cerr << "fpk-stationary: " << req.grid.x.n << "x" << req.grid.y.n << " cells: about "
+                << vehs::detail::format_number(bytes / 1e9, 2) << " GB of memory per solve (limit "
+                << vehs::detail::format_number(vehs::detail::default_memory_limit(opt.memory_limit) / 1e9, 2)
+                << " GB: 3/4 of physical memory)"
+                << (seconds > 0.0 ? " and about " + vehs::detail::format_number(seconds, 2) +
+                                        " s on one idle core; the factorisation reports no progress from inside "
+                                        "(Ctrl-C stops it, leaving no files)"
+                                  : std::string())
+                << "\n";
+  }
   for (const auto& a : axes) {
     try {
       (void)get_parameter(model, a.name);

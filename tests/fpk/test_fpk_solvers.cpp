@@ -167,6 +167,30 @@ TEST_CASE("the paper's SOR stops early, BiCGSTAB matches the direct solve", "[fp
   CHECK(l1_between(rt, rd) < 1e-3);
 }
 
+TEST_CASE("the direct solver: a grid over the memory limit is refused before any work, phases logged", "[fpk][solvers]") {
+  const FpkModel m(fpk_fixtures::model(R"({"drift": {"x": -1, "x^3": -1, "y": -0.5}, "diffusion": {"1": 0.2}})"));
+  const Grid g = automatic_domain(m, 60, 60);
+  SolveOptions o;
+  o.correction_steps = 0;
+  std::vector<std::string> lines;
+  o.log = [&](const std::string& line) { lines.push_back(line); };
+  o.memory_limit = 0.5 * estimated_solve_bytes(g.size(), o);
+  CHECK_THROWS_WITH(solve_stationary(m, g, o), Contains("60x60 cells need about") && Contains("use fewer cells"));
+  CHECK(lines.empty());  // refused before the factorisation
+  o.memory_limit = 0.0;
+  (void)solve_stationary(m, g, o);
+  REQUIRE(lines.size() == 3);
+  CHECK(lines[0] == "factorising 60x60 cells (symbolic)...");
+  CHECK(lines[1] == "factorising 60x60 cells (numeric)...");
+  CHECK(lines[2].rfind("factorised in ", 0) == 0);
+  CHECK(lines[2].find(" s (symbolic) + ") != std::string::npos);
+  // the estimates grow as the measured costs do: memory ~N log N, time ~N^1.5 (nested dissection)
+  CHECK(estimated_solve_seconds(4 * g.size(), o) == Approx(8.0 * estimated_solve_seconds(g.size(), o)));
+  SolveOptions sor;
+  sor.solver = Solver::Sor;
+  CHECK(estimated_solve_seconds(g.size(), sor) == 0.0);
+}
+
 TEST_CASE("sweeps: one grid, results independent of the thread count and equal to single solves", "[fpk][sweep]") {
   // a bistable Duffing oscillator with multiplicative noise, well resolved on 80x80 cells
   const vehs::Model base =

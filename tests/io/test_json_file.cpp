@@ -86,3 +86,20 @@ TEST_CASE("json_excerpt stays short and one line for any value", "[io][json][asa
   CHECK(vehs::json_excerpt(nested).size() <= 50);
   CHECK(vehs::json_excerpt(nlohmann::json(std::string(1000, 'a'))).size() <= 50);
 }
+
+TEST_CASE("json_excerpt never cuts a UTF-8 character (fuzz_json_config finding: dump threw)", "[io][json][asan]") {
+  // a cut inside a multi-byte character made the excerpt invalid UTF-8, and nlohmann's dump of it
+  // threw type_error 316 out of the error path (std::terminate in the fuzz target); every cut
+  // position of 2-, 3- and 4-byte characters, in a string and as an object key's value
+  const std::string chars = "\xC3\xA9\xE2\x82\xAC\xF0\x9F\x98\x80";  // é € 😀
+  for (std::size_t lead = 0; lead < 50; ++lead) {
+    std::string s(lead, 'a');
+    for (int i = 0; i < 10; ++i) s += chars;
+    for (const nlohmann::json& v : {nlohmann::json(s), nlohmann::json{{"k" + s, s}}, nlohmann::json::array({s, s})}) {
+      std::string e;
+      REQUIRE_NOTHROW(e = vehs::json_excerpt(v));
+      CHECK_NOTHROW(nlohmann::json(e).dump());  // valid UTF-8
+      CHECK(e.size() <= 60);
+    }
+  }
+}

@@ -2,6 +2,7 @@
 // Solving the stationary FPK equation (stationary.hpp describes the schemes and solvers): options,
 // results, automatic domains, the direct solver's reusable factorisation.
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -60,6 +61,11 @@ struct SolveOptions {
   /// Bytes a solve may take (estimated_solve_bytes; 0: 3/4 of physical memory); a larger grid is
   /// refused before anything is allocated.
   double memory_limit = 0.0;
+  /// Lines for a person waiting on the direct solver, whose factorisation reports no progress
+  /// from inside UMFPACK: one line as each phase starts ("factorising 1000x1000 cells
+  /// (symbolic)...", "(numeric)...") and one with their seconds and the factor's size. Empty:
+  /// none. Sweeps clear it (their progress counts points).
+  std::function<void(const std::string&)> log;
   std::string invalid_reason() const;
 };
 
@@ -67,6 +73,10 @@ struct SolveOptions {
 /// paper's model): direct solver N·(680 + 27.5·log2 N) bytes (1.13 kB per cell at 300², 1.23 kB
 /// at 1000²), SOR 300 bytes per cell, BiCGSTAB with ILUT the direct solver's.
 double estimated_solve_bytes(std::size_t cells, const SolveOptions& options);
+/// Seconds one direct solve on `cells` cells takes on one idle core (README's bench_fpk figures:
+/// 1.1 s at 400², 10-20 s at 1000²; nested dissection's N^1.5), to say before a long
+/// factorisation starts; 0 for the iterative solvers (they report progress themselves).
+double estimated_solve_seconds(std::size_t cells, const SolveOptions& options);
 
 /// What a solve did.
 struct SolveSummary {

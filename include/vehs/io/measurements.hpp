@@ -19,6 +19,7 @@
 // ReadSummary) or are an error naming the line (Fail). Records of one dataset whose mean
 // intervals agree within 1e-3 get their pooled interval (one clock, jittered stamps).
 #include <cstddef>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,11 @@ struct ReadSummary {
 /// Reads one measurement file; the format is chosen by extension (.npy binary, else CSV).
 /// Errors name the file, the record and the line/row.
 Dataset read_measurements(const std::string& path, const ReadOptions& options = {},
+                          ReadSummary* summary = nullptr);
+/// Reads a measurement file's bytes from a stream (read_measurements(path) reads files through
+/// it): `name` stands for the file in messages and records, its extension chooses the format
+/// (.npy binary, else CSV; .mat only from a path: libmatio reads files).
+Dataset read_measurements(std::istream& in, const std::string& name, const ReadOptions& options = {},
                           ReadSummary* summary = nullptr);
 /// Reads several files into one dataset (records keep their source).
 Dataset read_measurements(const std::vector<std::string>& paths, const ReadOptions& options = {},
