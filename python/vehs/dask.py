@@ -17,7 +17,6 @@ here, ``Client("tcp://scheduler:8786")`` on a cluster (the workers need vehs ins
 """
 import json
 import math
-import os
 
 from . import _vehs
 from .model import Model
@@ -53,12 +52,6 @@ def _sweep_block(model_dict, text, plan_json, first, last, threads):
     return json.loads(_vehs.sweep(model._core, text, first, last, None, plan))
 
 
-def _axis_size(spec):
-    if isinstance(spec, dict):
-        return len(spec["values"])
-    return int(spec[2])
-
-
 def _workers(client):
     return max(1, len(client.scheduler_info().get("workers", {})))
 
@@ -77,12 +70,12 @@ def sweep(client, model, sweep, grid=None, blocks=None, threads=1, **options):
     if grid is not None:
         options["grid"] = grid
     text = options_json("vehs.dask.sweep", options)
-    count = math.prod(_axis_size(s) for s in sweep.values())
+    start = time.perf_counter()
+    plan_json = _vehs.sweep_plan(model._core, text)  # the options checked, the grid envelope made, once, here
+    count = len(json.loads(plan_json)["errors"])
     blocks = max(1, min(count, blocks or 16 * _workers(client)))
     bounds = [(count * b // blocks, count * (b + 1) // blocks) for b in range(blocks)]
     model_dict = model.to_dict()
-    start = time.perf_counter()
-    plan_json = _vehs.sweep_plan(model._core, text)  # the grid envelope, once, here
     futures = [client.submit(_sweep_block, model_dict, text, plan_json, lo, hi, threads, pure=False)
                for lo, hi in bounds]
     parts = client.gather(futures)
