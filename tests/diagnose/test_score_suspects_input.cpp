@@ -76,6 +76,26 @@ Dataset driven_data(const Model& m, double dt, std::size_t n, int records, doubl
   return d;
 }
 
+/// The likelihood fit with the input band-limited, from the truth perturbed by 10 %, and the
+/// fit information identify-vehs writes (sampling interval, sensor noise, input interpolation).
+struct BandLimitedFit {
+  Model model;
+  double measurement_sd = 0.0;
+};
+BandLimitedFit fit_band_limited(const Dataset& d, double dt) {
+  likelihood::ObservedModel start{driven_duffing(), 0.01, {}};
+  for (auto& tc : start.model.drift) tc.coef *= 1.1;
+  likelihood::RefineOptions ro;
+  ro.filter.input = InputInterpolation::BandLimited;
+  const likelihood::Result fit = likelihood::refine(start, d, ro);
+  BandLimitedFit out{fit.model.model, fit.model.measurement_sd};
+  out.model.fit = FitInfo{};
+  out.model.fit->sampling.dt = dt;
+  out.model.fit->sampling.sensor_noise_sd = fit.model.measurement_sd;
+  out.model.fit->input = InputInterpolation::BandLimited;
+  return out;
+}
+
 bool any_significant(const diagnose::ScoreSuspectReport& r) {
   for (const auto& s : r.ranked)
     if (s.significant) return true;
@@ -103,20 +123,12 @@ TEST_CASE("diagnose's likelihood applies the input as the model was fitted (band
   const Model truth = driven_duffing();
   const Dataset d = driven_data(truth, dt, 1500, 6, 0.01, 41);
 
-  // the fit: the likelihood with the input band-limited, from the truth perturbed
-  likelihood::ObservedModel start{truth, 0.01, {}};
-  for (auto& tc : start.model.drift) tc.coef *= 1.1;
-  likelihood::RefineOptions ro;
-  ro.filter.input = InputInterpolation::BandLimited;
-  const likelihood::Result fit = likelihood::refine(start, d, ro);
-  Model fitted = fit.model.model;
-  fitted.fit = FitInfo{};
-  fitted.fit->sampling.dt = dt;
-  fitted.fit->input = InputInterpolation::BandLimited;
+  const BandLimitedFit fit = fit_band_limited(d, dt);
+  const Model& fitted = fit.model;
 
   diagnose::ScoreSuspectOptions so;
   so.alpha = 1e-5;
-  const auto band = diagnose::score_suspects(fitted, d, fit.model.measurement_sd, so);
+  const auto band = diagnose::score_suspects(fitted, d, fit.measurement_sd, so);
   INFO("band-limited:" << describe(band));
   CHECK(band.input == InputInterpolation::BandLimited);
   CHECK(band.note.empty());
@@ -126,7 +138,7 @@ TEST_CASE("diagnose's likelihood applies the input as the model was fitted (band
   // the same model read as fitted with a held input: the filter's predictions lag the data
   Model held = fitted;
   held.fit->input = InputInterpolation::ZeroOrderHold;
-  const auto zoh = diagnose::score_suspects(held, d, fit.model.measurement_sd, so);
+  const auto zoh = diagnose::score_suspects(held, d, fit.measurement_sd, so);
   INFO("held:" << describe(zoh));
   CHECK(zoh.input == InputInterpolation::ZeroOrderHold);
   CHECK(any_significant(zoh));
@@ -144,15 +156,7 @@ TEST_CASE("diagnose: a driven model fitted with a band-limited input passes the 
   const double dt = 2.0 * M_PI / 10.0;
   const Model truth = driven_duffing();
   const Dataset d = driven_data(truth, dt, 1500, 6, 0.01, 43);
-  likelihood::ObservedModel start{truth, 0.01, {}};
-  likelihood::RefineOptions ro;
-  ro.filter.input = InputInterpolation::BandLimited;
-  const likelihood::Result fit = likelihood::refine(start, d, ro);
-  Model fitted = fit.model.model;
-  fitted.fit = FitInfo{};
-  fitted.fit->sampling.dt = dt;
-  fitted.fit->sampling.sensor_noise_sd = fit.model.measurement_sd;
-  fitted.fit->input = InputInterpolation::BandLimited;
+  const Model fitted = fit_band_limited(d, dt).model;
   diagnose::Options o;
   o.alpha = 1e-4;
   o.score_suspects.enabled = true;
