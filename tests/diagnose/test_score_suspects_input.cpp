@@ -29,6 +29,9 @@ Model driven_duffing() {
                          "test model");
 }
 
+/// Sampling interval: 10 samples per period of the linear resonance (ω = 1).
+constexpr double kDt = 2.0 * M_PI / 10.0;
+
 /// u(t) = Σ_j a cos(ω_j t + φ_j), ω_j = 0.05 j (j = 1 … 40): band-limited to ω ≤ 2 (Nyquist 5).
 struct Multisine {
   std::vector<double> phase;
@@ -119,11 +122,8 @@ std::string describe(const diagnose::ScoreSuspectReport& r) {
 TEST_CASE("diagnose's likelihood applies the input as the model was fitted (band-limited): no suspect on "
           "the model's own driven data; held, the same model looks wrong",
           "[diagnose][score_suspects][input]") {
-  const double dt = 2.0 * M_PI / 10.0;
-  const Model truth = driven_duffing();
-  const Dataset d = driven_data(truth, dt, 1500, 6, 0.01, 41);
-
-  const BandLimitedFit fit = fit_band_limited(d, dt);
+  const Dataset d = driven_data(driven_duffing(), kDt, 1500, 6, 0.01, 41);
+  const BandLimitedFit fit = fit_band_limited(d, kDt);
   const Model& fitted = fit.model;
 
   diagnose::ScoreSuspectOptions so;
@@ -153,10 +153,8 @@ TEST_CASE("diagnose's likelihood applies the input as the model was fitted (band
 TEST_CASE("diagnose: a driven model fitted with a band-limited input passes the likelihood's suspects "
           "component on its own driven data",
           "[diagnose][score_suspects][input][slow]") {
-  const double dt = 2.0 * M_PI / 10.0;
-  const Model truth = driven_duffing();
-  const Dataset d = driven_data(truth, dt, 1500, 6, 0.01, 43);
-  const Model fitted = fit_band_limited(d, dt).model;
+  const Dataset d = driven_data(driven_duffing(), kDt, 1500, 6, 0.01, 43);
+  const Model fitted = fit_band_limited(d, kDt).model;
   diagnose::Options o;
   o.alpha = 1e-4;
   o.score_suspects.enabled = true;
