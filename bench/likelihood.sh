@@ -4,8 +4,10 @@
 # (no argument: all but long). `paper` is paper10 paper10noise paper05 paper05noise (the paper's
 # model at omega_max*dt 1.0 and 0.5, without and with 2 % sensor noise), each its own results
 # file and part; `long` re-runs the omega*dt 1.0 cases with 4x the records (long_paper,
-# long_bistable): the per-parameter bias over the seeds when the SEs are well under 5 %. `narx` installs SysIdentPy (PyPI; an optional dependency of this
-# benchmark only) into build/bench-venv and fits polynomial NARX models on the same Silverbox
+# long_bistable): the per-parameter bias over the seeds when the SEs are well under 5 %;
+# `effects_harmonic` is the per-record-phase harmonic forcing row of `effects` alone.
+# VEHS_BENCH_LIKELIHOOD=path runs that binary (a copy, so that rebuilds cannot touch a study).
+# `narx` installs SysIdentPy (PyPI; an optional dependency of this benchmark only) into build/bench-venv and fits polynomial NARX models on the same Silverbox
 # split. Long: run under nice; the synthetic part takes about an hour on 2 cores.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -14,7 +16,7 @@ out="$root/bench/results"
 mkdir -p "$out"
 parts=("$@")
 [ ${#parts[@]} -eq 0 ] && parts=(silverbox narx synthetic paper driven effects speed gaussian)
-bench="${VEHS_BENCH_LIKELIHOOD:-$build/bench/bench_likelihood}"  # (a copy: rebuilds cannot touch a running study)
+bench="${VEHS_BENCH_LIKELIHOOD:-$build/bench/bench_likelihood}"
 # build it unless present (a rebuild with other settings would rebuild the whole tree)
 [ -x "$bench" ] || "$root/scripts/build.sh" bench_likelihood >/dev/null
 cd "$root"

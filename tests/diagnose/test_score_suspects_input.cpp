@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "vehs/core/model.hpp"
+#include "vehs/diagnose/diagnose.hpp"
 #include "vehs/diagnose/score_suspects.hpp"
 #include "vehs/io/model_file.hpp"
 #include "vehs/likelihood/refine.hpp"
@@ -27,6 +28,9 @@ Model driven_duffing() {
                              R"({"drift": {"x": -1.0, "x^3": -0.5, "y": -0.15, "u": 1.0}, "diffusion": {"1": 0.002}})"),
                          "test model");
 }
+
+/// Sampling interval: 10 samples per period of the linear resonance (ω = 1).
+constexpr double kDt = 2.0 * M_PI / 10.0;
 
 /// u(t) = Σ_j a cos(ω_j t + φ_j), ω_j = 0.05 j (j = 1 … 40): band-limited to ω ≤ 2 (Nyquist 5).
 struct Multisine {
@@ -75,6 +79,26 @@ Dataset driven_data(const Model& m, double dt, std::size_t n, int records, doubl
   return d;
 }
 
+/// The likelihood fit with the input band-limited, from the truth perturbed by 10 %, and the
+/// fit information identify-vehs writes (sampling interval, sensor noise, input interpolation).
+struct BandLimitedFit {
+  Model model;
+  double measurement_sd = 0.0;
+};
+BandLimitedFit fit_band_limited(const Dataset& d, double dt) {
+  likelihood::ObservedModel start{driven_duffing(), 0.01, {}};
+  for (auto& tc : start.model.drift) tc.coef *= 1.1;
+  likelihood::RefineOptions ro;
+  ro.filter.input = InputInterpolation::BandLimited;
+  const likelihood::Result fit = likelihood::refine(start, d, ro);
+  BandLimitedFit out{fit.model.model, fit.model.measurement_sd};
+  out.model.fit = FitInfo{};
+  out.model.fit->sampling.dt = dt;
+  out.model.fit->sampling.sensor_noise_sd = fit.model.measurement_sd;
+  out.model.fit->input = InputInterpolation::BandLimited;
+  return out;
+}
+
 bool any_significant(const diagnose::ScoreSuspectReport& r) {
   for (const auto& s : r.ranked)
     if (s.significant) return true;
@@ -98,24 +122,13 @@ std::string describe(const diagnose::ScoreSuspectReport& r) {
 TEST_CASE("diagnose's likelihood applies the input as the model was fitted (band-limited): no suspect on "
           "the model's own driven data; held, the same model looks wrong",
           "[diagnose][score_suspects][input]") {
-  const double dt = 2.0 * M_PI / 10.0;
-  const Model truth = driven_duffing();
-  const Dataset d = driven_data(truth, dt, 1500, 6, 0.01, 41);
-
-  // the fit: the likelihood with the input band-limited, from the truth perturbed
-  likelihood::ObservedModel start{truth, 0.01, {}};
-  for (auto& tc : start.model.drift) tc.coef *= 1.1;
-  likelihood::RefineOptions ro;
-  ro.filter.input = InputInterpolation::BandLimited;
-  const likelihood::Result fit = likelihood::refine(start, d, ro);
-  Model fitted = fit.model.model;
-  fitted.fit = FitInfo{};
-  fitted.fit->sampling.dt = dt;
-  fitted.fit->input = InputInterpolation::BandLimited;
+  const Dataset d = driven_data(driven_duffing(), kDt, 1500, 6, 0.01, 41);
+  const BandLimitedFit fit = fit_band_limited(d, kDt);
+  const Model& fitted = fit.model;
 
   diagnose::ScoreSuspectOptions so;
   so.alpha = 1e-5;
-  const auto band = diagnose::score_suspects(fitted, d, fit.model.measurement_sd, so);
+  const auto band = diagnose::score_suspects(fitted, d, fit.measurement_sd, so);
   INFO("band-limited:" << describe(band));
   CHECK(band.input == InputInterpolation::BandLimited);
   CHECK(band.note.empty());
@@ -125,8 +138,37 @@ TEST_CASE("diagnose's likelihood applies the input as the model was fitted (band
   // the same model read as fitted with a held input: the filter's predictions lag the data
   Model held = fitted;
   held.fit->input = InputInterpolation::ZeroOrderHold;
-  const auto zoh = diagnose::score_suspects(held, d, fit.model.measurement_sd, so);
+  const auto zoh = diagnose::score_suspects(held, d, fit.measurement_sd, so);
   INFO("held:" << describe(zoh));
   CHECK(zoh.input == InputInterpolation::ZeroOrderHold);
   CHECK(any_significant(zoh));
+}
+
+// The whole diagnosis of the same fitted model on its own driven data: the interpolation reaches
+// the likelihood through diagnose() and its score-suspects component passes. (The moment-based
+// components — one-step map, drift and noise shape, residual spectrum — reject this model at 10
+// samples per period: they are expansions in Δt, the limitation issue 12 describes for identify;
+// diagnose's own area, not checked here.) False-failure probability: the component's p-value
+// below the per-component threshold alpha/components = 1e-4/10 under the model.
+TEST_CASE("diagnose: a driven model fitted with a band-limited input passes the likelihood's suspects "
+          "component on its own driven data",
+          "[diagnose][score_suspects][input][slow]") {
+  const Dataset d = driven_data(driven_duffing(), kDt, 1500, 6, 0.01, 43);
+  const Model fitted = fit_band_limited(d, kDt).model;
+  diagnose::Options o;
+  o.alpha = 1e-4;
+  o.score_suspects.enabled = true;
+  o.fpk = false;
+  o.parameter_uncertainty = diagnose::ParameterUncertainty::Off;
+  const diagnose::Result r = diagnose::diagnose(fitted, d, o);
+  std::string why;
+  const diagnose::Component* score = nullptr;
+  for (const auto& c : r.components) {
+    why += "\n   " + c.name + ": p " + std::to_string(c.test.p_value);
+    if (c.name == "score_suspects") score = &c;
+  }
+  INFO("verdict components (threshold " << r.threshold << "):" << why << "\nsuspects:" << describe(r.score_suspects));
+  CHECK(r.score_suspects.input == InputInterpolation::BandLimited);
+  REQUIRE(score);
+  CHECK(score->test.p_value >= r.threshold);
 }

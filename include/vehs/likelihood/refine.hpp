@@ -21,7 +21,10 @@
 // standard error in every direction and BFGS's first step is a Fisher-scoring step; after each
 // Ceres run the whitening is recomputed at the new point until the Newton step is below 0.01
 // SE. Data larger than `warm_start_samples` are first fitted on the first eighth of every
-// record (recursively), then on all of them (a few iterations from there).
+// record (recursively), then on all of them (a few iterations from there); the warm start holds
+// harmonic_forcing.omega (a share of the records cannot resolve it to the precision of all of
+// them, and a side lobe is a local optimum). With one phase per record, every record's phase
+// starts at the best of 12 values around its given start (the others at their start values).
 //
 // Standard errors (Options::covariance):
 //  * observed  — inverse of the observed information, the Hessian of −log L by central
