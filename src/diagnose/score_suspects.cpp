@@ -135,9 +135,10 @@ double partial_log_p(const likelihood::ScoreTestResult& joint, const std::vector
 }
 
 /// Look-alike effects (y·|y| and y³ damping: over a Gaussian-like velocity their efficient scores
-/// correlate ≈ 0.97 once the linear damping is projected out): each one's test with the other's
-/// coefficients free, from the same filter pass. Their marginal tests name both; the partial
-/// tests say which one the data prefer (suspect name → partial log p).
+/// correlate ≈ 0.97 once the linear damping is projected out): each one's coefficient tested
+/// with the other's free, from the same filter pass (one degree of freedom each: a fair
+/// comparison). Their marginal tests name both; the partial tests say which one the data prefer
+/// (suspect name → partial log p).
 using PartialEvidence = std::map<std::string, double>;
 
 /// Term-like effects: their coefficients at 0 in the drift / diffusion, all from one filter pass
@@ -181,25 +182,22 @@ std::vector<ScoreSuspect> term_effects(const Context& c, const std::vector<Effec
     groups.emplace_back();
     for (const auto& sl : g) groups.back().push_back(sl.name);
   }
-  // the look-alike pair, jointly (an extra group of the same pass)
-  const auto pos = [&](EffectId id) { return long(std::find(tested_ids.begin(), tested_ids.end(), id) - tested_ids.begin()); };
-  const long kq = pos(EffectId::QuadraticDamping), kn = pos(EffectId::NonlinearDamping);
-  const bool pair = kq < long(tested_ids.size()) && kn < long(tested_ids.size());
-  if (pair) {
-    groups.push_back(groups[std::size_t(kq)]);
-    groups.back().insert(groups.back().end(), groups[std::size_t(kn)].begin(), groups[std::size_t(kn)].end());
-  }
+  // the look-alike pair, y·|y| and y³, jointly (an extra group of the same pass; nonlinear_damping's
+  // x²y is not part of the comparison: either way its coefficient is 0)
+  const auto pos = [&](EffectId id) { return std::size_t(std::find(tested_ids.begin(), tested_ids.end(), id) - tested_ids.begin()); };
+  const std::size_t kq = pos(EffectId::QuadraticDamping), kn = pos(EffectId::NonlinearDamping);
+  const Slot* q_slot = kq < slots.size() && slots[kq].size() == 1 ? &slots[kq][0] : nullptr;
+  const Slot* n_slot = nullptr;
+  if (kn < slots.size())
+    for (const Slot& sl : slots[kn])
+      if (sl.name == "drift[y^3]") n_slot = &sl;
+  if (q_slot && n_slot) groups.push_back({q_slot->name, n_slot->name});
   likelihood::ObservedModel om{m, c.measurement_sd, {}};
   const std::vector<likelihood::ScoreTestResult> rs = likelihood::score_tests(om, c.data, groups, c.test_options);
-  if (pair) {
+  if (q_slot && n_slot) {
     const auto& joint = rs.back();
-    std::vector<int> q, n;
-    for (std::size_t i = 0; i < slots[std::size_t(kq)].size(); ++i) q.push_back(int(i));
-    for (std::size_t i = 0; i < slots[std::size_t(kn)].size(); ++i) n.push_back(int(q.size() + i));
-    const double q_sign = q.size() == 1 ? slots[std::size_t(kq)][0].sign : 0.0;
-    const double n_sign = n.size() == 1 ? slots[std::size_t(kn)][0].sign : 0.0;
-    partial[std::string(effect_spec(EffectId::QuadraticDamping).name)] = partial_log_p(joint, q, n, q_sign);
-    partial[std::string(effect_spec(EffectId::NonlinearDamping).name)] = partial_log_p(joint, n, q, n_sign);
+    partial[std::string(effect_spec(EffectId::QuadraticDamping).name)] = partial_log_p(joint, {0}, {1}, q_slot->sign);
+    partial[std::string(effect_spec(EffectId::NonlinearDamping).name)] = partial_log_p(joint, {1}, {0}, n_slot->sign);
   }
   for (std::size_t k = 0; k < slots.size(); ++k) {
     const EffectSpec& spec = effect_spec(tested_ids[k]);

@@ -42,6 +42,7 @@ std::string describe(const diagnose::ScoreSuspectReport& r) {
     std::snprintf(buf, sizeof buf, "\n   %s: stat %.3g p %.3g z %.2f power %.2f (%.1f s)", sp.effect.c_str(),
                   sp.statistic, sp.p_value, sp.z, sp.power, sp.seconds);
     s += buf;
+    if (const auto at = sp.test.find("; with "); at != std::string::npos) s += " [" + sp.test.substr(at + 2) + "]";
     for (const auto& [k, v] : sp.params) {
       auto it = sp.params_stderr.find(k);
       s += " " + k + "=" + std::to_string(v) + (it != sp.params_stderr.end() ? "±" + std::to_string(it->second) : "");

@@ -8,10 +8,10 @@
 //    asymmetric_stiffness, velocity_dependent_noise): the C(α) score test of the effect's
 //    coefficients at 0, the model's own parameters projected out. One coefficient with a sign
 //    (μ, c, q ≥ 0): one-sided z; several: χ² with their number of degrees of freedom. The
-//    look-alikes quadratic_damping (y·|y|) and nonlinear_damping (x²y, y³), whose scores correlate
-//    ≈ 0.97 over a Gaussian-like velocity, are also tested each with the other's coefficients
-//    free (a joint group of the same pass); when both are significant, the one this partial test
-//    prefers is ranked ahead of the other (each one's `test` gives its partial p).
+//    look-alikes quadratic_damping (y·|y|) and nonlinear_damping (its y³), whose scores correlate
+//    ≈ 0.97 over a Gaussian-like velocity, are also tested each with the other's coefficient
+//    free (one-sided, a joint group of the same pass); when both are significant, the one this
+//    partial test prefers is ranked ahead of the other (each one's `test` gives its partial p).
 //  * effects whose other parameters vanish under the null — impact_stop (gap),
 //    electromechanical_coupling (λ), colored_noise (τ): the score test of k_stop, coupling,
 //    intensity at 0 on a grid of the vanishing parameter (quantiles of |x|; multiples of the
