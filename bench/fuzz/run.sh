@@ -33,14 +33,17 @@ for t in "${targets[@]}"; do
   start=$(date +%s)
   if /usr/bin/time -f "%U %S" -o "$log.cpu" "$build/bench/fuzz/fuzz_$t" -runs="$runs" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
        -print_final_stats=1 -artifact_prefix="$build/findings/$t-" "$work" "$root/bench/fuzz/corpus/$t" >"$log" 2>&1; then
-    n=$(grep -m1 'stat::number_of_executed_units' "$log" | awk '{print $2}')
-    rate=$(grep -m1 'stat::average_exec_per_sec' "$log" | awk '{print $2}')
-    echo "fuzz_$t: $n executions, no crash, sanitizer report or hang ($(( $(date +%s) - start )) s," \
-         "$rate exec/s: 10^7 take $(awk -v r="$rate" 'BEGIN { printf "%.1f", r > 0 ? 1e7 / r / 3600 : 0 }') h;" \
-         "$(awk '{ printf "%.0f", $1 + $2 }' "$log.cpu") CPU s; load average $(cut -d' ' -f1-3 /proc/loadavg); log $log)"
+    n=$(grep -a -m1 'stat::number_of_executed_units' "$log" | awk '{print $2}')
+    rate=$(grep -a -m1 'stat::average_exec_per_sec' "$log" | awk '{print $2}')
+    cpu=$(awk '{ printf "%.0f", $1 + $2 }' "$log.cpu")
+    echo "fuzz_$t: $n executions, no crash, sanitizer report or hang ($(( $(date +%s) - start )) s wall," \
+         "$cpu CPU s, load average $(cut -d' ' -f1-3 /proc/loadavg)): $rate exec/s," \
+         "$(awk -v n="$n" -v c="$cpu" 'BEGIN { printf "%.0f", (c > 0 ? n / c : 0) }') per CPU second;" \
+         "10^7 take $(awk -v r="$rate" 'BEGIN { printf "%.1f", (r > 0 ? 1e7 / r / 3600 : 0) }') h at this rate," \
+         "$(awk -v n="$n" -v c="$cpu" 'BEGIN { printf "%.1f", (n > 0 ? 1e7 * c / n / 3600 : 0) }') h of an idle core (log $log)"
   else
     status=1
-    echo "fuzz_$t: FINDING after $(( $(date +%s) - start )) s: $(grep -m1 -E 'ERROR|SUMMARY|timeout|deadly' "$log")"
+    echo "fuzz_$t: FINDING after $(( $(date +%s) - start )) s: $(grep -a -m1 -E 'ERROR|SUMMARY|timeout|deadly' "$log")"
     echo "  reproducer: $(ls "$build/findings/$t-"* 2>/dev/null | head -1); log $log"
   fi
 done

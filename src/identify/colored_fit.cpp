@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 
+#include "block_covariance.hpp"
 #include "term_fit.hpp"
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
@@ -378,6 +379,26 @@ Effect split_colored(const Options& options, Options& base) {
   return given;
 }
 
+
+
+/// The model file's covariance after the colored-noise fit (block_covariance): the GLS drift's
+/// batch sandwich; the white diffusion's and the jackknifed (τ, I) standard errors, which come
+/// from separate fits, as uncorrelated blocks.
+ParameterCovariance colored_covariance(const Model& m, const ColoredProblem& cp, const MatrixXd& Jcov) {
+  CovarianceBlock drift{{}, Jcov, {}}, others;
+  for (const auto& t : cp.terms) {
+    drift.names.push_back("drift[" + t.name() + "]");
+    drift.stderr_.push_back(m.drift_stderr.at(t.name()));
+  }
+  for (const auto& [name, se] : m.diffusion_stderr) others.names.push_back("diffusion[" + name + "]"), others.stderr_.push_back(se);
+  for (const auto& e : m.effects)
+    for (const auto& [name, se] : e.stderr_)
+      others.names.push_back(std::string(effect_spec(e.id).name) + "." + name), others.stderr_.push_back(se);
+  const Eigen::VectorXd se = Eigen::Map<const Eigen::VectorXd>(others.stderr_.data(), static_cast<Eigen::Index>(others.stderr_.size()));
+  others.cov = se.cwiseAbs2().asDiagonal();
+  return block_covariance({drift, others});
+}
+
 }  // namespace
 
 Result identify_colored(const Dataset& data, const Options& options) {
@@ -437,7 +458,6 @@ Result identify_colored(const Dataset& data, const Options& options) {
   fit_white_diffusion(cp, res, fo, wd);
 
   Result out = std::move(cur);
-  out.model.covariance = {};  // the GLS refit has standard errors only
   out.model.drift_stderr.clear();
   for (int j = 0; j < p; ++j) {
     out.model.drift[static_cast<std::size_t>(j)].coef = c[j];
@@ -454,6 +474,7 @@ Result identify_colored(const Dataset& data, const Options& options) {
   if (!given.params.count("tau")) fitted.stderr_["tau"] = tau_se;
   if (!given.params.count("intensity")) fitted.stderr_["intensity"] = intensity_se;
   out.model.effects = {fitted};
+  out.model.covariance = colored_covariance(out.model, cp, Jcov);
   const VectorXd St = S.rowwise().sum(), Nt = N.rowwise().sum();
   info.lag_lo_time = L0 * dt;
   info.lag_hi_time = L1 * dt;

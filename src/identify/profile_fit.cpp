@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "block_covariance.hpp"
 #include "profile_problem.hpp"
 #include "profile_search.hpp"
 #include "term_fit.hpp"
@@ -30,6 +31,8 @@ struct FitOut {
   double contrast = 0.0, rows = 0.0;
   std::vector<double> beyond;  // impact: samples beyond each gap
   std::vector<std::string> term_names;  // drift terms of the engine (first K of z)
+  std::vector<Component> comps;         // at θ̂ (β filled): the meaning of z's and cov's columns
+  std::vector<std::pair<int, int>> free_theta;  // (component, θ index) of cov's last columns
 };
 
 /// Rows per batch of the sandwich's score covariance for p parameters over n rows: long against
@@ -161,6 +164,8 @@ FitOut finish_fit(Problem& P) {
   const MatrixXd Ji = J.fullPivLu().inverse();
   out.cov = Ji * O * Ji.transpose();
   out.beyond = samples_beyond_gaps(P);
+  out.comps = P.comps;
+  out.free_theta = free_th;
   return out;
 }
 
@@ -291,6 +296,75 @@ void use_joint_stderr(const FitOut& fit, Model& m) {
   }
 }
 
+/// The model file's covariance after a profile fit (block_covariance): the fit's sandwich over
+/// the drift terms and the effects' parameters as written (harmonic forcing's amplitude and phase
+/// by the delta method), with the written standard errors (use_joint_stderr's); then the final
+/// term fit's block of the diffusion terms (and of any drift term the profile fit did not have).
+ParameterCovariance profile_covariance(const FitOut& f, const Model& m, const ParameterCovariance& term_cov) {
+  const Eigen::Index p = f.cov.rows();
+  CovarianceBlock joint;
+  std::vector<Eigen::RowVectorXd> rows;
+  auto add = [&](const std::string& name, double se, Eigen::RowVectorXd g) {
+    joint.names.push_back(name);
+    joint.stderr_.push_back(se);
+    rows.push_back(std::move(g));
+  };
+  auto unit = [&](Eigen::Index i) { return Eigen::RowVectorXd::Unit(p, i); };
+  const int K = static_cast<int>(f.term_names.size());
+  for (int j = 0; j < K; ++j)
+    if (auto it = m.drift_stderr.find(f.term_names[static_cast<std::size_t>(j)]); it != m.drift_stderr.end())
+      add("drift[" + it->first + "]", it->second, unit(j));
+  int col = K, C = 0;
+  for (const auto& c : f.comps) C += c.ncols();
+  for (std::size_t ci = 0; ci < f.comps.size() && ci < m.effects.size(); ++ci) {
+    const Component& c = f.comps[ci];
+    const Effect& e = m.effects[ci];
+    const std::string prefix = std::string(effect_spec(c.id).name) + ".";
+    auto se = [&](const std::string& param) {
+      auto it = e.stderr_.find(param);
+      return it == e.stderr_.end() ? -1.0 : it->second;
+    };
+    if (c.id == EffectId::HarmonicForcing && c.ncols() == 2) {
+      const double A = c.beta[0], B = c.beta[1], R = std::hypot(A, B);
+      Eigen::RowVectorXd gR = Eigen::RowVectorXd::Zero(p), gP = Eigen::RowVectorXd::Zero(p);
+      gR[col] = A / R, gR[col + 1] = B / R;
+      gP[col] = B / (R * R), gP[col + 1] = -A / (R * R);
+      add(prefix + "amplitude", se("amplitude"), gR);
+      add(prefix + "phase", se("phase"), gP);
+    } else {
+      for (int j = 0; j < c.ncols(); ++j)
+        add(prefix + c.beta_names[static_cast<std::size_t>(j)], se(c.beta_names[static_cast<std::size_t>(j)]), unit(col + j));
+    }
+    col += c.ncols();
+    for (std::size_t j = 0; j < f.free_theta.size(); ++j)
+      if (f.free_theta[j].first == static_cast<int>(ci)) {
+        const std::string& name = c.theta_names[static_cast<std::size_t>(f.free_theta[j].second)];
+        add(prefix + name, se(name), unit(K + C + static_cast<Eigen::Index>(j)));
+      }
+  }
+  MatrixXd G(static_cast<Eigen::Index>(rows.size()), p);
+  for (std::size_t i = 0; i < rows.size(); ++i) G.row(static_cast<Eigen::Index>(i)) = rows[i];
+  joint.cov = G * f.cov * G.transpose();
+  CovarianceBlock rest;  // the term fit's, for the names the profile fit has not
+  std::vector<std::size_t> idx;
+  for (std::size_t i = 0; i < term_cov.size(); ++i) {
+    const std::string& name = term_cov.names[i];
+    if (std::find(joint.names.begin(), joint.names.end(), name) != joint.names.end()) continue;
+    const bool drift = name.rfind("drift[", 0) == 0;
+    const auto& written = drift ? m.drift_stderr : m.diffusion_stderr;
+    const auto it = written.find(name.substr(drift ? 6 : 10, name.size() - (drift ? 7 : 11)));
+    if (it == written.end()) continue;  // a term the final model does not have
+    idx.push_back(i);
+    rest.names.push_back(name);
+    rest.stderr_.push_back(it->second);
+  }
+  rest.cov.resize(static_cast<Eigen::Index>(idx.size()), static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t a = 0; a < idx.size(); ++a)
+    for (std::size_t b = 0; b < idx.size(); ++b)
+      rest.cov(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) = term_cov(idx[a], idx[b]);
+  return block_covariance({joint, rest});
+}
+
 }  // namespace
 
 Result identify_profile(const Dataset& data, const Options& options) {
@@ -328,7 +402,7 @@ Result identify_profile(const Dataset& data, const Options& options) {
   Result res = std::move(cur);
   res.model.effects = fitted;
   use_joint_stderr(fit, res.model);
-  res.model.covariance = {};  // the term fit's sandwich no longer matches these errors
+  res.model.covariance = profile_covariance(fit, res.model, res.model.covariance);
   info.effects = fitted;
   info.profile_contrast = fit.contrast;
   info.rows = fit.rows;

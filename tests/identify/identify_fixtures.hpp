@@ -11,6 +11,8 @@
 #include <set>
 #include <string>
 
+#include <Eigen/Dense>
+
 #include "vehs/core/model.hpp"
 #include "vehs/identify/identify.hpp"
 #include "vehs/io/model_file.hpp"
@@ -213,6 +215,39 @@ inline void check_effect_param(const vehs::Effect& fitted, const std::string& na
   CHECK(se > 0.0);
   CHECK(std::abs(v - truth) <= z_limit(k) * se);
   CHECK(se <= resolution * std::abs(truth));
+}
+
+/// The covariance a fitted model file carries: one entry per estimate with a standard error
+/// (drift and diffusion terms, effect parameters), its diagonal the square of that standard
+/// error, positive definite, and the same after a round trip through the model file.
+inline void check_written_covariance(const vehs::Model& m) {
+  const vehs::ParameterCovariance& c = m.covariance;
+  REQUIRE_FALSE(c.empty());
+  CHECK(c.invalid_reason().empty());
+  std::size_t expected = 0;
+  auto check_se = [&](const std::string& name, double se) {
+    ++expected;
+    CAPTURE(name);
+    const std::size_t i = c.index_of(name);
+    REQUIRE(i < c.size());
+    CHECK(std::sqrt(c(i, i)) == Approx(se).epsilon(1e-9));
+  };
+  for (const auto& [term, se] : m.drift_stderr) check_se("drift[" + term + "]", se);
+  for (const auto& [term, se] : m.diffusion_stderr) check_se("diffusion[" + term + "]", se);
+  for (const auto& e : m.effects)
+    for (const auto& [param, se] : e.stderr_) check_se(std::string(vehs::effect_spec(e.id).name) + "." + param, se);
+  CHECK(c.size() == expected);
+  Eigen::MatrixXd a(static_cast<Eigen::Index>(c.size()), static_cast<Eigen::Index>(c.size()));
+  for (std::size_t i = 0; i < c.size(); ++i)
+    for (std::size_t j = 0; j < c.size(); ++j) a(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = c(i, j);
+  // positive definite: the correlation matrix (entries of a physical-unit covariance span 60
+  // decades, too many for an eigen-solver's rounding on the covariance itself)
+  const Eigen::VectorXd inv_sd = a.diagonal().cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd r = inv_sd.asDiagonal() * a * inv_sd.asDiagonal();
+  CHECK(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(r).eigenvalues().minCoeff() > 1e-12);
+  const vehs::Model back = vehs::model_from_json(nlohmann::json::parse(vehs::model_to_json(m).dump()), "m.json");
+  CHECK(back.covariance.names == c.names);
+  CHECK(back.covariance.matrix == c.matrix);
 }
 
 }  // namespace vehs_test

@@ -58,6 +58,7 @@ TEST_CASE("dynamic effects: harmonic forcing (frequency, amplitude, phase) on tw
   req.id = EffectId::HarmonicForcing;
   o.effects = {req};
   const identify::Result r = identify::identify(d, o);
+  check_written_covariance(r.model);  // the sandwich over drift and effect parameters (issue 15)
   INFO(pot << ": " << model_to_json(r.model)["dynamic_fit"].dump() << " drift " << model_to_json(r.model)["drift"].dump() << " estimator " << model_to_json(r.model)["estimator"]["used"].dump());
   REQUIRE(r.model.effects.size() == 1);
   const Effect& f = r.model.effects[0];
@@ -95,6 +96,7 @@ TEST_CASE("dynamic effects: impact stops (stiffness and both gaps) on two potent
   req.id = EffectId::ImpactStop;
   o.effects = {req};
   const identify::Result r = identify::identify(d, o);
+  check_written_covariance(r.model);  // the sandwich over drift and effect parameters (issue 15)
   INFO(pot << ": " << model_to_json(r.model)["dynamic_fit"].dump() << " drift " << model_to_json(r.model)["drift"].dump() << " estimator " << model_to_json(r.model)["estimator"]["used"].dump());
   REQUIRE(r.model.effects.size() == 1);
   const Effect& f = r.model.effects[0];
@@ -133,6 +135,7 @@ TEST_CASE("dynamic effects: electromechanical coupling (time constant and coupli
   req.id = EffectId::ElectromechanicalCoupling;
   o.effects = {req};
   const identify::Result r = identify::identify(d, o);
+  check_written_covariance(r.model);  // the sandwich over drift and effect parameters (issue 15)
   INFO(pot << ": " << model_to_json(r.model)["dynamic_fit"].dump() << " drift " << model_to_json(r.model)["drift"].dump() << " estimator " << model_to_json(r.model)["estimator"]["used"].dump());
   REQUIRE(r.model.effects.size() == 1);
   const Effect& f = r.model.effects[0];
@@ -165,6 +168,7 @@ TEST_CASE("dynamic effects: stops and forcing together, with spurious library te
   b.id = EffectId::HarmonicForcing;
   o.effects = {a, b};
   const identify::Result r = identify::identify(d, o);
+  check_written_covariance(r.model);  // two effects: the columns of both in one sandwich
   INFO(model_to_json(r.model)["dynamic_fit"].dump());
   REQUIRE(r.model.effects.size() == 2);
   const Effect* fs = r.model.find_effect(EffectId::ImpactStop);

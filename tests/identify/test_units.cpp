@@ -19,16 +19,6 @@ vehs::Dataset in_units(const vehs::Dataset& d, double L, double T) {
   return p;
 }
 
-void check_covariance(const vehs::Model& m) {
-  REQUIRE_FALSE(m.covariance.empty());
-  CHECK(m.covariance.invalid_reason().empty());
-  for (const auto& tc : m.drift) {
-    const auto i = m.covariance.index_of("drift[" + tc.term.name() + "]");
-    REQUIRE(i < m.covariance.size());
-    CHECK(std::sqrt(m.covariance(i, i)) == Approx(m.drift_stderr.at(tc.term.name())).epsilon(1e-9));
-  }
-}
-
 }  // namespace
 
 TEST_CASE("identification is invariant to the units of x and t", "[identify][units]") {
@@ -39,7 +29,7 @@ TEST_CASE("identification is invariant to the units of x and t", "[identify][uni
   const auto a = vehs::identify::identify(nd, o).model;
   const auto m = vehs::identify::identify(in_units(nd, L, T), o).model;
   const auto mm = vehs::identify::identify(in_units(nd, 1e3 * L, T), o).model;
-  for (const auto* model : {&a, &m, &mm}) check_covariance(*model);
+  for (const auto* model : {&a, &m, &mm}) vehs_test::check_written_covariance(*model);
   const vehs::Scales s{L, T, 1.0};
   const vehs::Model m_back = vehs::to_internal(m, s);
   const vehs::Model mm_back = vehs::to_internal(mm, vehs::Scales{1e3 * L, T, 1.0});
@@ -79,7 +69,7 @@ TEST_CASE("the Silverbox data in volts get finite standard errors", "[identify][
   const auto r = vehs::identify::identify(d, o);
   for (const auto& [n, se] : r.model.drift_stderr) CHECK(std::isfinite(se));
   for (const auto& [n, se] : r.model.diffusion_stderr) CHECK(std::isfinite(se));
-  check_covariance(r.model);
+  vehs_test::check_written_covariance(r.model);
   // the resonance near 60 Hz: k1 = −drift[x] ≈ (2π·60)² within a factor 2
   const double k1 = -r.model.drift_coef("x");
   CHECK(k1 > 0.5 * std::pow(2 * M_PI * 60, 2));
