@@ -326,9 +326,12 @@ TEST_CASE("the O(h^2) central-difference correction removes the stride bias of U
   CHECK(compare(with.model, drift_only).max_z <= z_limit(6));
   tally("x^9 error without / with", rel_error(without.model, truth, false, "x^9") / rel_error(with.model, truth, false, "x^9"));
   tally("x^5 error with", rel_error(with.model, truth, false, "x^5"));
-  // the uncorrected stiffness is ~5 % off (4–7 SE) at this stride and the corrected one within
-  // 1–2 SE: measured on this seed only — the false-failure probability of these two checks is
-  // not established (tallied for scripts/seed-study.sh)
+  // The uncorrected stiffness is ~5 % off (4–7 SE) at this stride and the corrected one within
+  // 1–2 SE. Over 40 seed shifts (scripts/seed-study.sh 40 build/tests/test_identify "the O(h^2)
+  // central-difference correction*"): x^9's error without / with the correction ≥ 3.4 (median
+  // 8.2), the corrected x^9 +0.35 % ± sd 0.52 %: a ratio below 2 needs the corrected error
+  // above ≈ 2.5 %, 4 sd away (≈ 3e-5). The corrected x^5 is +0.37 % ± sd 0.75 % (z +0.46 ± sd
+  // 0.93): the former check |error| < 2 % was 2.2 sd away (≈ 1.5 % false failure per run; the
+  // largest of the 40 was 1.95 %), so x^5 is checked by its z above (z_limit(6)) only.
   CHECK(rel_error(without.model, truth, false, "x^9") > 2 * rel_error(with.model, truth, false, "x^9"));
-  CHECK(rel_error(with.model, truth, false, "x^5") < 0.02);
 }
