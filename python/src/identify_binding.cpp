@@ -7,7 +7,6 @@
 #include "bindings.hpp"
 #include "bridge.hpp"
 #include "records.hpp"
-#include "tools/identify_file.hpp"
 #include "tools/identify_tool.hpp"
 #include "tools/likelihood_refinement.hpp"
 #include "tools/measurement_config.hpp"
@@ -53,16 +52,14 @@ std::pair<ModelFile, std::string> identify_records(const Records& records, const
   const nlohmann::ordered_json units = tools::units_block(c);
   const std::shared_ptr<const Dataset> data = detrended(records, c);
   std::optional<Dataset> ranged;
-  tools::IdentifyFit fit = run_released(std::move(progress), false, [&](const ProgressCallback& cb) {
-    return tools::identify_fit(c, *data, cb, {}, ranged);
+  tools::IdentifiedInMemory identified = run_released(std::move(progress), false, [&](const ProgressCallback& cb) {
+    return tools::identify_in_memory(c, *data, cb, {}, ranged, "vehs.identify");
   });
-  identify::Result& r = fit.result;
-  validate_model(r.model, "vehs.identify");
   ModelFile f;
-  f.sections = tools::identify_report_sections(r);
+  f.sections = std::move(identified.sections);
   if (!units.empty()) f.sections["units"] = units;
-  f.sections["likelihood"] = refinement_json(fit.refinement);
-  f.model = std::move(r.model);
+  f.sections["likelihood"] = refinement_json(identified.fit.refinement);
+  f.model = std::move(identified.fit.result.model);
   return {f, json_text(f.sections)};
 }
 

@@ -1,6 +1,7 @@
 #include "tools/identify_tool.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <tuple>
 #include <cstdio>
@@ -382,6 +383,18 @@ IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressC
   return fit;
 }
 
+IdentifiedInMemory identify_in_memory(const Config& c, const Dataset& data, const ProgressCallback& progress,
+                                      const std::function<void(const std::string&)>& log,
+                                      std::optional<Dataset>& ranged, const std::string& where) {
+  const auto start = std::chrono::steady_clock::now();
+  IdentifiedInMemory out{identify_fit(c, data, progress, log, ranged), {}};
+  validate_model(out.fit.result.model, where);
+  out.sections = identify_report_sections(out.fit.result);
+  out.sections["fit"]["in_memory_seconds"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
 int run_identify(Config& c, const AppOptions& app) {
   const std::string output = c.string("output");
   if (c.has("study")) {
@@ -409,10 +422,10 @@ int run_identify(Config& c, const AppOptions& app) {
   std::function<void(const std::string&)> log;
   if (!app.quiet) log = [](const std::string& line) { std::cerr << line << "\n"; };
   std::optional<Dataset> ranged;
-  IdentifyFit fit = identify_fit(c, loaded.data, app.progress, log, ranged);
+  IdentifiedInMemory identified = identify_in_memory(c, loaded.data, app.progress, log, ranged, output);
   const Dataset& data = ranged ? *ranged : loaded.data;
-  identify::Result& r = fit.result;
-  const Refinement& refinement = fit.refinement;
+  identify::Result& r = identified.fit.result;
+  const Refinement& refinement = identified.fit.refinement;
   // data summary and provenance
   nlohmann::ordered_json ds;
   ds["files"] = files;
@@ -426,11 +439,10 @@ int run_identify(Config& c, const AppOptions& app) {
   ds["x_range"] = {xmin, xmax};
   ds["detrend"] = detrend;
   ds["reading"] = read_summary_json(loaded.summary);
-  nlohmann::ordered_json sections = identify_report_sections(r);
+  nlohmann::ordered_json& sections = identified.sections;
   if (!units.empty()) sections["units"] = units;
   sections["data"] = ds;
   sections["provenance"] = {{"tool", "identify-vehs"}, {"library", library_version()}, {"config", c.json()}};
-  validate_model(r.model, output);
   std::string figure;
   if (c.has("figures")) {
     figure = identify_figure(c.string("figures"), r.model, data, units);

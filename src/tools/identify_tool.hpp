@@ -6,6 +6,8 @@
 #include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "tools/app.hpp"
 #include "tools/config.hpp"
 #include "tools/likelihood_refinement.hpp"
@@ -33,10 +35,21 @@ struct IdentifyFit {
 
 /// identify-vehs's fit of loaded (and detrended) data: the config's `samples` range is taken
 /// first (into `ranged`, which then holds the data fitted), the default CV folds fit small data,
-/// the likelihood logs its rounds to `log` (may be empty). Shared by identify-vehs and
-/// vehs.identify so that both give the same model.
+/// the likelihood logs its rounds to `log` (may be empty). The first step of identify_in_memory.
 IdentifyFit identify_fit(const Config& c, const Dataset& data, const ProgressCallback& progress,
                          const std::function<void(const std::string&)>& log, std::optional<Dataset>& ranged);
+
+/// identify-vehs's work on records in memory, everything but reading data and writing files:
+/// identify_fit, the model checked for writing (errors name `where`) and the model file's report
+/// sections, whose fit.in_memory_seconds is the wall time of all of it. Shared by identify-vehs
+/// and vehs.identify, so that both do and time the same work (docs/model-file.md).
+struct IdentifiedInMemory {
+  IdentifyFit fit;
+  nlohmann::ordered_json sections;
+};
+IdentifiedInMemory identify_in_memory(const Config& c, const Dataset& data, const ProgressCallback& progress,
+                                      const std::function<void(const std::string&)>& log,
+                                      std::optional<Dataset>& ranged, const std::string& where);
 
 /// The body of identify-vehs: identification (or a consistency study when `study` is given).
 int run_identify(Config& c, const AppOptions& app);
