@@ -6,6 +6,7 @@
 #include <string>
 
 #include "vehs/core/error.hpp"
+#include "vehs/diagnose/lens.hpp"
 
 namespace vehs::diagnose::detail {
 
@@ -46,6 +47,28 @@ void initial_states(const Dataset& data, int smoothing, std::vector<double>& x0,
     x0.push_back(c0);
     y0.push_back(c1 / dt);
   }
+}
+
+int continuous_twin_substeps(const Model& model, double dt, double x_lo, double x_hi, double v_lo, double v_hi) {
+  const CompiledTerms drift(model.drift);
+  const ExplicitForces forces(model);
+  double rho = 0.0;  // largest root modulus of λ² − bλ − a (a = ∂b2/∂x, b = ∂b2/∂y) over the box
+  const int nx = 41, nv = 11;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double x = x_lo + (x_hi - x_lo) * i / (nx - 1), v = v_lo + (v_hi - v_lo) * j / (nv - 1);
+      const double a = std::abs(drift.d_dx(x, v)) + (forces.stop ? std::abs(forces.k_stop) : 0.0);
+      const double b = std::abs(drift.d_dy(x, v, 0.0));
+      rho = std::max(rho, 0.5 * (b + std::sqrt(b * b + 4.0 * a)));
+    }
+  if (forces.harmonic) rho = std::max(rho, std::abs(forces.omega));
+  for (const auto& e : model.effects) {  // the hidden states' own rates
+    if (e.id == EffectId::ElectromechanicalCoupling)
+      rho = std::max({rho, std::abs(e.param("lambda")), std::sqrt(std::abs(e.param("coupling")))});
+    if (e.id == EffectId::ColoredNoise && e.param("tau") > 0.0) rho = std::max(rho, 1.0 / e.param("tau"));
+  }
+  const double n = std::ceil(rho * dt / 0.02);
+  return std::isfinite(n) ? static_cast<int>(std::clamp(n, 10.0, 2000.0)) : 10;
 }
 
 TwinSimulator::TwinSimulator(const Model& model, const Dataset& data, const TwinSettings& settings)

@@ -5,16 +5,24 @@
 // (VEHS_CAL_SHAPE=text: only the shapes whose name contains it; VEHS_CAL_SEED0=k: seeds from k)
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
 
 #include "diagnose_fixtures.hpp"
+#include "vehs/likelihood/signals.hpp"
 
 using namespace diag_test;
 
 namespace {
+
+enum class Truth {
+  Paper,   ///< the bistable model of the fixtures (multiplicative noise), dt <= 0.05
+  Issue12, ///< the bistable Duffing of issue 12 (U = -x^2/2 + x^4/4, beta = 0.1, 2D = 0.04)
+  Driven   ///< a driven Duffing with a recorded broadband input, ~10 samples per period
+};
 
 struct Shape {
   std::string name;
@@ -23,7 +31,21 @@ struct Shape {
   double dt;
   int substeps;  ///< 1: the paper's rk4_euler at the recorded step; > 1: continuous-time (Taylor 1.5)
   double burn_in;
+  Truth truth = Truth::Paper;
+  double noise_share = 0.0;  ///< white sensor noise, as a share of std(x)
 };
+
+vehs::Model issue12_duffing() {
+  return model_of(R"({"drift": {"x": 1.0, "x^3": -1.0, "y": -0.1}, "diffusion": {"1": 0.04}})");
+}
+/// The driven Duffing of bench/bench_likelihood.cpp `driven` (its input: a random-phase
+/// multisine of 40 lines, spacing 0.05, amplitude 0.09 each).
+vehs::Model driven_duffing() {
+  return model_of(R"({"drift": {"x": -1.0, "x^3": -0.5, "y": -0.15, "u": 1.0}, "diffusion": {"1": 0.002}})");
+}
+vehs::Model truth_of(const Shape& s) {
+  return s.truth == Truth::Paper ? bistable() : s.truth == Truth::Issue12 ? issue12_duffing() : driven_duffing();
+}
 
 std::vector<Shape> shapes() {
   return {
@@ -35,10 +57,31 @@ std::vector<Shape> shapes() {
       {"4 x 50000, dt 0.02, continuous", 4, 50000, 0.02, 20, 50.0},
       {"32 x 6000, dt 0.05, continuous", 32, 6000, 0.05, 20, 50.0},
       {"200 x 1000, dt 0.001, scheme, burn-in", 200, 1000, 0.001, 1, 50.0},
+      // coarse sampling (issue 12's likelihood range, omega*dt up to about 1)
+      {"8 x 5714, dt 0.35, coarse continuous", 8, 5714, 0.35, 20, 50.0, Truth::Issue12},
+      {"8 x 5714, dt 0.35, coarse continuous, 2 % noise", 8, 5714, 0.35, 20, 50.0, Truth::Issue12, 0.02},
+      {"8 x 2857, dt 0.7, coarse continuous", 8, 2857, 0.7, 20, 50.0, Truth::Issue12},
+      {"8 x 2857, dt 0.7, coarse continuous, 2 % noise", 8, 2857, 0.7, 20, 50.0, Truth::Issue12, 0.02},
+      {"40 x 400, dt 0.7, coarse continuous, 2 % noise", 40, 400, 0.7, 20, 50.0, Truth::Issue12, 0.02},
+      {"8 x 4000, dt 2pi/10, coarse driven, 2 % noise", 8, 4000, 2.0 * M_PI / 10.0, 40, 0.0, Truth::Driven, 0.02},
   };
 }
 
-vehs::Dataset shape_data(const Shape& s, std::uint64_t seed) {
+double sd_of(const std::vector<double>& v) {
+  double m = 0.0, q = 0.0;
+  for (double x : v) m += x;
+  m /= double(v.size());
+  for (double x : v) q += (x - m) * (x - m);
+  return std::sqrt(q / double(v.size() - 1));
+}
+
+/// The data of a shape and the sensor noise in them (the true model's measurement noise).
+struct ShapeData {
+  vehs::Dataset data;
+  double noise = 0.0;
+};
+
+vehs::sim::SimulationOptions shape_options(const Shape& s, std::uint64_t seed) {
   vehs::sim::SimulationOptions o;
   o.dt = s.dt;
   o.substeps = s.substeps;
@@ -48,7 +91,40 @@ vehs::Dataset shape_data(const Shape& s, std::uint64_t seed) {
   o.burn_in = s.burn_in;
   o.record_y = false;
   o.seed = vehs_test::seed(seed);
-  return vehs::sim::simulate(bistable(), o);
+  if (s.truth == Truth::Driven) {
+    o.x0.lo = -1.5;
+    o.x0.hi = 1.5;
+    o.drive = vehs::likelihood::random_phase_multisine(s.samples, s.dt, 40, 0.05, 0.09, 3 + seed);
+  }
+  return o;
+}
+
+ShapeData shape_data(const Shape& s, std::uint64_t seed) {
+  const vehs::Model m = truth_of(s);
+  auto o = shape_options(s, seed);
+  ShapeData sd;
+  if (s.noise_share > 0.0) {  // 2 % of std(x) of a pilot record, as bench_likelihood does
+    auto pilot = o;
+    pilot.records = 2;
+    pilot.seed = o.seed + 1000003;
+    sd.noise = s.noise_share * sd_of(vehs::sim::simulate(m, pilot).x);
+  }
+  o.sensor_noise = sd.noise;
+  sd.data = vehs::sim::simulate(m, o);
+  return sd;
+}
+
+/// The true model; at coarse sampling as a likelihood fit writes it (identify-vehs uses the
+/// likelihood there): a continuous-time model with its measurement noise.
+vehs::Model observed_truth(const Shape& s, double noise) {
+  vehs::Model m = truth_of(s);
+  if (s.truth != Truth::Paper && !std::getenv("VEHS_CAL_BARE")) {
+    vehs::FitInfo fit;
+    fit.likelihood = vehs::LikelihoodFit{};
+    fit.likelihood->measurement_sd = noise;
+    m.fit = fit;
+  }
+  return m;
 }
 
 std::string failing(const vehs::diagnose::Result& r) {
@@ -69,16 +145,23 @@ TEST_CASE("calibration matrix: the true model on its own data, every shape (benc
     if (only && s.name.find(only) == std::string::npos) continue;
     int adequate = 0;
     for (int k = first; k < first + seeds; ++k) {
-      const vehs::Dataset d = shape_data(s, 7000 + std::uint64_t(k));
+      const ShapeData d = shape_data(s, 7000 + std::uint64_t(k));
       auto o = fast_options(std::uint64_t(k));
       o.suspects.enabled = false;
       o.fpk = false;
-      const auto r = vehs::diagnose::diagnose(bistable(), d, o);
+      if (std::getenv("VEHS_DEBUG_SUB")) o.twin_substeps = std::atoi(std::getenv("VEHS_DEBUG_SUB"));
+      const auto r = vehs::diagnose::diagnose(observed_truth(s, d.noise), d.data, o);
       adequate += r.adequate();
       std::printf("  %s seed %d: %s%s [lens %s, data sampling %s, sensor noise %.3g]\n", s.name.c_str(), k,
                   r.adequate() ? "adequate" : "INADEQUATE", failing(r).c_str(), r.lens.describe().c_str(),
                   vehs::enum_to_string(vehs::kSamplingVerdictNames, r.sampling.data_verdict).c_str(),
                   r.sampling.sensor_noise_sd);
+      if (std::getenv("VEHS_CAL_VERBOSE"))
+        std::printf("      twins: %s, %d substeps, %d replicates\n", vehs::enum_to_string(vehs::sim::kSchemeNames, r.sampling.twin_scheme).c_str(),
+                    r.sampling.twin_substeps, r.sampling.replicates);
+      if (std::getenv("VEHS_CAL_VERBOSE"))
+        for (const auto& c : r.components)
+          std::printf("      %-18s p=%.3g%s\n", c.name.c_str(), c.test.p_value, c.test.available ? "" : " (n/a)");
       std::fflush(stdout);
     }
     std::printf("%s: adequate %d of %d\n", s.name.c_str(), adequate, seeds);
@@ -95,7 +178,7 @@ TEST_CASE("calibration matrix: short records, scheme-consistent and continuous-t
   for (const Shape& s : shapes()) {
     if (s.name != "40 x 2000, dt 0.001, scheme, burn-in" && s.name != "100 x 500, dt 0.01, continuous") continue;
     for (int k = 1; k <= 3; ++k) {
-      const vehs::Dataset d = shape_data(s, 7100 + std::uint64_t(k));
+      const vehs::Dataset d = shape_data(s, 7100 + std::uint64_t(k)).data;
       auto o = fast_options(std::uint64_t(k));
       o.suspects.enabled = false;
       o.fpk = false;
