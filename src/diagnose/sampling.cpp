@@ -162,6 +162,7 @@ SamplingChoice choose_sampling_and_lens(const Model& model, const Dataset& data,
   SamplingChoice choice;
   choice.verdict = pilot.ok ? pilot.verdict : assumed;
   if (fit.likelihood) choice.verdict = si.model_verdict;  // the likelihood's model says how it was observed
+  if (opt.sensor_noise > 0.0) choice.verdict = SamplingVerdict::Noisy;  // the user says so
   choice.lens = choose_lens(opt, fit, pilot, dt);
   res.lens = choice.lens;
   si.sensor_noise_sd = choice.lens.sensor_noise_sd;
