@@ -59,6 +59,7 @@ TwinSettings choose_twin_settings(const Comparison& cmp, SamplingVerdict verdict
                 : consistent        ? 1
                                     : continuous_twin_substeps(cmp.model, lens.dt, box.x_lo, box.x_hi, box.v_lo, box.v_hi);
   ts.sensor_noise = lens.sensor_noise_sd;
+  ts.input = cmp.model.fit ? cmp.model.fit->input : InputInterpolation::ZeroOrderHold;
   ts.seed = opt.seed;
   ts.smoothing = lens.sensor_noise_sd > 0.0 ? std::max(2, lens.stride) : 1;
   return ts;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "vehs/core/fit_info.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/core/dataset.hpp"
 #include "vehs/sim/simulate.hpp"
@@ -16,6 +17,11 @@ struct TwinSettings {
   double sensor_noise = 0.0;
   std::uint64_t seed = 1;
   int smoothing = 1;  ///< half-width (samples) of the initial-state fit; > 1 with sensor noise
+  /// How the recorded input is applied between samples (the model fit's `input`). Other than
+  /// held, the twins step at Δt/substeps with the interpolated input at each step's midpoint
+  /// (likelihood::refine_input, as simulate-vehs does), one record at a time, and keep every
+  /// substeps-th sample: memory of a record's samples × substeps.
+  InputInterpolation input = InputInterpolation::ZeroOrderHold;
 };
 
 /// Initial displacement and velocity of every record: x[0] and the second-order one-sided
@@ -42,12 +48,15 @@ class TwinSimulator {
     double t0 = 0.0;
     std::size_t samples = 0;
   };
+  /// The recorded input of record r as the twins apply it (refined when fine_ > 1).
+  std::vector<double> drive_of(std::size_t r, std::size_t samples) const;
   const Model& model_;
   const Dataset& data_;
   TwinSettings settings_;
   std::vector<double> x0_, y0_;
   std::vector<Group> groups_;
   bool harmonic_ = false;
+  int fine_ = 1;  ///< > 1: an interpolated input, simulated on steps of Δt/fine_ (one per step)
   Dataset scratch_;
 };
 
