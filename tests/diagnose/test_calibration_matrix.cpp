@@ -2,7 +2,11 @@
 // own data for short and long records, few and many, scheme-consistent and continuous-time
 // sampling. Small instances run in CI; the full matrix is a hidden bench tag:
 //   VEHS_CAL_SEEDS=10 build/tests/test_diagnose "[.calibration_matrix]"
-// (VEHS_CAL_SHAPE=text: only the shapes whose name contains it; VEHS_CAL_SEED0=k: seeds from k)
+// (VEHS_CAL_SHAPE=text: only the shapes whose name contains it; VEHS_CAL_SEED0=k: seeds from k;
+// VEHS_CAL_VERBOSE=1: every component's p-value and the twins; VEHS_CAL_FULL=1: with the suspects,
+// the score suspects and the FPK reference, as diagnose-vehs runs; VEHS_CAL_BARE=1: the coarse
+// shapes' true model without its likelihood section, the noise left to the sampling diagnosis;
+// VEHS_CAL_FIT=1: the coarse shapes' model fitted as identify-vehs does there, likelihood_fit)
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -12,7 +16,9 @@
 #include <string>
 #include <vector>
 
+#include "../likelihood/likelihood_fixtures.hpp"
 #include "diagnose_fixtures.hpp"
+#include "vehs/likelihood/refine.hpp"
 #include "vehs/likelihood/signals.hpp"
 
 using namespace diag_test;
@@ -37,16 +43,13 @@ struct Shape {
   double noise_share = 0.0;  ///< white sensor noise, as a share of std(x)
 };
 
-vehs::Model issue12_duffing() {
-  return model_of(R"({"drift": {"x": 1.0, "x^3": -1.0, "y": -0.1}, "diffusion": {"1": 0.04}})");
-}
 /// The driven Duffing of bench/bench_likelihood.cpp `driven` (its input: a random-phase
 /// multisine of 40 lines, spacing 0.05, amplitude 0.09 each).
 vehs::Model driven_duffing() {
   return model_of(R"({"drift": {"x": -1.0, "x^3": -0.5, "y": -0.15, "u": 1.0}, "diffusion": {"1": 0.002}})");
 }
 vehs::Model truth_of(const Shape& s) {
-  return s.truth == Truth::Paper ? bistable() : s.truth == Truth::Issue12 ? issue12_duffing() : driven_duffing();
+  return s.truth == Truth::Paper ? bistable() : s.truth == Truth::Issue12 ? vehs_lik_test::bistable() : driven_duffing();
 }
 
 /// A continuous broadband input: Σ_j a·cos(j·dw·t + φ_j), 40 lines, dw 0.05, a 0.09 (the
@@ -85,14 +88,6 @@ std::vector<Shape> shapes() {
       {"8 x 4000, dt 2pi/10, coarse driven continuous input, 2 % noise", 8, 4000, 2.0 * M_PI / 10.0, 40, 0.0,
        Truth::DrivenSmooth, 0.02},
   };
-}
-
-double sd_of(const std::vector<double>& v) {
-  double m = 0.0, q = 0.0;
-  for (double x : v) m += x;
-  m /= double(v.size());
-  for (double x : v) q += (x - m) * (x - m);
-  return std::sqrt(q / double(v.size() - 1));
 }
 
 /// The data of a shape and the sensor noise in them (the true model's measurement noise).
@@ -158,7 +153,7 @@ ShapeData shape_data(const Shape& s, std::uint64_t seed) {
     auto pilot = o;
     pilot.records = 2;
     pilot.seed = o.seed + 1000003;
-    sd.noise = s.noise_share * sd_of(run(pilot).x);
+    sd.noise = s.noise_share * vehs_lik_test::sd_of(run(pilot).x);
   }
   o.sensor_noise = sd.noise;
   sd.data = run(o);
@@ -187,6 +182,31 @@ std::string failing(const vehs::diagnose::Result& r) {
   return s;
 }
 
+/// The model identify-vehs writes at coarse sampling: the moment fit on the true model's terms,
+/// refined by the likelihood (its measurement noise estimated where the data have noise), the
+/// refinement recorded in the fit information as the tool does (VEHS_CAL_FIT=1).
+vehs::Model likelihood_fit(const Shape& s, const ShapeData& d) {
+  const vehs::Model truth = truth_of(s);
+  vehs::identify::Options io;
+  io.drift_library.clear();
+  io.diffusion_library.clear();
+  for (const auto& t : truth.drift) io.drift_library.push_back(t.term);
+  for (const auto& t : truth.diffusion) io.diffusion_library.push_back(t.term);
+  io.sparsity = vehs::identify::Sparsity::None;
+  const vehs::Model start = vehs::identify::identify(d.data, io).model;
+  vehs::likelihood::RefineOptions ro;
+  ro.estimate_measurement_noise = d.noise > 0.0;
+  if (s.truth == Truth::DrivenSmooth) ro.filter.input = vehs::InputInterpolation::BandLimited;
+  const auto r = vehs::likelihood::refine({start, 0.0, {}}, d.data, ro);
+  vehs::FitInfo fit = start.fit ? *start.fit : vehs::FitInfo{};
+  fit.input = ro.filter.input;
+  fit.likelihood = vehs::LikelihoodFit{};
+  fit.likelihood->measurement_sd = r.model.measurement_sd;
+  vehs::Model m = r.model.model;
+  m.fit = fit;
+  return m;
+}
+
 }  // namespace
 
 TEST_CASE("calibration matrix: the true model on its own data, every shape (bench)", "[.calibration_matrix]") {
@@ -199,10 +219,12 @@ TEST_CASE("calibration matrix: the true model on its own data, every shape (benc
     for (int k = first; k < first + seeds; ++k) {
       const ShapeData d = shape_data(s, 7000 + std::uint64_t(k));
       auto o = fast_options(std::uint64_t(k));
-      o.suspects.enabled = false;
-      o.fpk = false;
-      if (std::getenv("VEHS_DEBUG_SUB")) o.twin_substeps = std::atoi(std::getenv("VEHS_DEBUG_SUB"));
-      const auto r = vehs::diagnose::diagnose(observed_truth(s, d.noise), d.data, o);
+      const bool full = std::getenv("VEHS_CAL_FULL") != nullptr;  // as diagnose-vehs runs
+      o.suspects.enabled = full;
+      o.score_suspects.enabled = full;
+      o.fpk = full;
+      const bool fitted = std::getenv("VEHS_CAL_FIT") && s.truth != Truth::Paper;
+      const auto r = vehs::diagnose::diagnose(fitted ? likelihood_fit(s, d) : observed_truth(s, d.noise), d.data, o);
       adequate += r.adequate();
       std::printf("  %s seed %d: %s%s [lens %s, data sampling %s, sensor noise %.3g]\n", s.name.c_str(), k,
                   r.adequate() ? "adequate" : "INADEQUATE", failing(r).c_str(), r.lens.describe().c_str(),
