@@ -44,7 +44,9 @@
 //     model; comparable between models fitted to the same data). verdict = inadequate when any
 //     component's p-value is below alpha/(number of components) (Bonferroni, family-wise alpha).
 //  5. Suspects (suspects.hpp): every catalogue effect not yet in the model is fitted on the first
-//     part of every record and scored on the held-out rest.
+//     part of every record and scored on the held-out rest. Their refits are moment estimators
+//     (expansions in Δt): for a likelihood fit or at ω̂·Δt ≥ 0.2 (0.1 with an input) they are not
+//     a test of the model (component unavailable, nothing claimed); the score tests are.
 //
 // Units: time in the units of the records' t column; x as recorded; v̂ in x per time unit.
 // Memory: the data, one twin replicate at a time, and O(units × bins) statistics.
