@@ -269,8 +269,9 @@ TEST_CASE("calibration matrix: short records, scheme-consistent and continuous-t
 // CI instance at coarse sampling (omega*dt up to about 1, issue 12's likelihood range): the true
 // model as identify-vehs's likelihood writes it (continuous time, its measurement noise, the
 // input interpolation it was fitted with), five seeds of the five shapes with sensor noise.
-// Measured over 30 bench seeds of six coarse shapes: 175 of 180 adequate (2.8 % false alarms
-// against the verdict's nominal 1 %); granting 4 % per run,
+// Measured over 30 bench seeds of the seven coarse shapes: 205 of 210 adequate (2.4 % false
+// alarms against the verdict's nominal 1 %; seed 22 of dt 0.35 fails with and without noise);
+// granting 4 % per run,
 // P(Bin(25, 0.96) < binomial_floor(25, 0.96) = 19) = 4e-5 <= 1e-4 (at most 6 of 25 may fail).
 // Before the fixes: 2 of 20 adequate on the first four shapes (twins by the moment pilot's
 // reading — the paper's scheme at the recorded step at dt 0.7 — and 10 substeps); 0 of 10 on
