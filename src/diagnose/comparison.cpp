@@ -46,13 +46,20 @@ void unit_statistics(const Comparison& cmp, const Dataset& d, std::vector<UnitSt
 }
 
 /// How the twins are simulated: the paper's scheme at the recorded step for scheme-consistent
-/// data, else Itô–Taylor 1.5 on 10 substeps; the lens's sensor noise and smoothing.
-TwinSettings choose_twin_settings(const Options& opt, const Lens& lens, SamplingVerdict verdict) {
+/// data, else Itô–Taylor 1.5 on fine substeps (continuous_twin_substeps: at least 10, more at
+/// coarse sampling); the lens's sensor noise and smoothing.
+TwinSettings choose_twin_settings(const Comparison& cmp, SamplingVerdict verdict) {
+  const Options& opt = cmp.options;
+  const Lens& lens = cmp.lens;
+  const StatsSetup& box = cmp.setup;
   TwinSettings ts;
   const bool consistent = verdict == SamplingVerdict::SchemeConsistent;
   ts.scheme = opt.twin_scheme_auto ? (consistent ? sim::Scheme::Rk4Euler : sim::Scheme::Taylor15) : opt.twin_scheme;
-  ts.substeps = opt.twin_substeps > 0 ? opt.twin_substeps : (consistent ? 1 : 10);
+  ts.substeps = opt.twin_substeps > 0 ? opt.twin_substeps
+                : consistent        ? 1
+                                    : continuous_twin_substeps(cmp.model, lens.dt, box.x_lo, box.x_hi, box.v_lo, box.v_hi);
   ts.sensor_noise = lens.sensor_noise_sd;
+  ts.input = cmp.model.fit ? cmp.model.fit->input : InputInterpolation::ZeroOrderHold;
   ts.seed = opt.seed;
   ts.smoothing = lens.sensor_noise_sd > 0.0 ? std::max(2, lens.stride) : 1;
   return ts;
@@ -87,7 +94,7 @@ void compute_statistics(Comparison& cmp, SamplingVerdict verdict, Result& res, S
   unit_statistics(cmp, cmp.data, cmp.data_stats, false, prog);
   watch.lap(res, "data_statistics");
 
-  cmp.twin_settings = choose_twin_settings(opt, cmp.lens, verdict);
+  cmp.twin_settings = choose_twin_settings(cmp, verdict);
   si.twin_scheme = cmp.twin_settings.scheme;
   si.twin_substeps = cmp.twin_settings.substeps;
   TwinSimulator twins(cmp.model, cmp.data, cmp.twin_settings);

@@ -89,8 +89,10 @@ Pilot model_sampling_pilot(const Model& model, const Dataset& data) {
   p.sensor_noise_sd = rule.noisy ? std::sqrt(rule.noise_share * (c[0] / rows) * h * h * h * h / 6.0) : 0.0;
   return p;
 }
-/// The lens: the requested kinematics, else the model fit's estimator and stride, else the data's
-/// sampling diagnosis; sensor noise from the options, the fit or the diagnosis.
+/// The lens: the requested kinematics, else central at stride 1 for a likelihood fit, else the
+/// model fit's estimator and stride, else the data's
+/// sampling diagnosis; sensor noise from the options, the model's measurement noise (a likelihood
+/// fit), the moment fit's estimate or the diagnosis.
 Lens choose_lens(const Options& opt, const FitInfo& fit, const Pilot& pilot, double dt) {
   Lens lens;
   lens.dt = dt;
@@ -100,6 +102,8 @@ Lens choose_lens(const Options& opt, const FitInfo& fit, const Pilot& pilot, dou
     forward = true;
   } else if (opt.lens == LensChoice::Central) {
     stride = fit.stride >= 1 ? fit.stride : (pilot.ok ? pilot.stride : 1);
+  } else if (fit.likelihood) {
+    stride = 1;  // a continuous-time model: central kinematics at the recorded step
   } else if (fit.estimator != Estimator::Auto) {
     forward = !uses_central_kinematics(fit.estimator);
     stride = fit.stride >= 1 ? fit.stride : 1;
@@ -112,6 +116,8 @@ Lens choose_lens(const Options& opt, const FitInfo& fit, const Pilot& pilot, dou
   lens.stride = forward ? 1 : std::max(stride, 1);
   if (opt.sensor_noise >= 0.0)
     lens.sensor_noise_sd = opt.sensor_noise;
+  else if (fit.likelihood && fit.likelihood->measurement_sd > 0.0)  // the model's own measurement noise
+    lens.sensor_noise_sd = fit.likelihood->measurement_sd;
   else if (fit.sampling.sensor_noise_sd > 0.0)
     lens.sensor_noise_sd = fit.sampling.sensor_noise_sd;
   else if (pilot.ok && pilot.verdict == SamplingVerdict::Noisy)
@@ -131,7 +137,13 @@ SamplingChoice choose_sampling_and_lens(const Model& model, const Dataset& data,
   si.model_dt = fit.sampling.dt;
   si.model_verdict = fit.sampling.verdict;
   si.model_estimator = fit.estimator;
-  if (opt.check_model_sampling && si.model_dt > 0.0 && std::abs(si.model_dt - dt) > 1e-6 * dt)
+  // A likelihood fit (vehs/likelihood/observed_model.hpp) is a continuous-time SDE observed at
+  // the sampling instants with white measurement noise: its twins are simulated so at any Δt
+  // (the moment pilot's reading, kept in the file, can be wrong at coarse sampling), and its
+  // coefficients do not depend on the sampling interval.
+  if (fit.likelihood)
+    si.model_verdict = fit.likelihood->measurement_sd > 0.0 ? SamplingVerdict::Noisy : SamplingVerdict::ContinuousTime;
+  if (opt.check_model_sampling && !fit.likelihood && si.model_dt > 0.0 && std::abs(si.model_dt - dt) > 1e-6 * dt)
     throw Error("the model was identified from data sampled at dt = " + fmt(si.model_dt, 8) +
                 " (its 'sampling.dt') but these data are sampled at dt = " + fmt(dt, 8) +
                 ": coefficients fitted to a discrete scheme depend on the interval; diagnose data "
@@ -149,6 +161,8 @@ SamplingChoice choose_sampling_and_lens(const Model& model, const Dataset& data,
                            "' but these data look '" + enum_to_string(kSamplingVerdictNames, pilot.verdict) + "'");
   SamplingChoice choice;
   choice.verdict = pilot.ok ? pilot.verdict : assumed;
+  if (fit.likelihood) choice.verdict = si.model_verdict;  // the likelihood's model says how it was observed
+  if (opt.sensor_noise > 0.0) choice.verdict = SamplingVerdict::Noisy;  // the user says so
   choice.lens = choose_lens(opt, fit, pilot, dt);
   res.lens = choice.lens;
   si.sensor_noise_sd = choice.lens.sensor_noise_sd;

@@ -4,8 +4,11 @@
 #include <cmath>
 #include <map>
 #include <string>
+#include <tuple>
 
 #include "vehs/core/error.hpp"
+#include "vehs/diagnose/lens.hpp"
+#include "vehs/likelihood/signals.hpp"
 
 namespace vehs::diagnose::detail {
 
@@ -48,26 +51,58 @@ void initial_states(const Dataset& data, int smoothing, std::vector<double>& x0,
   }
 }
 
+int continuous_twin_substeps(const Model& model, double dt, double x_lo, double x_hi, double v_lo, double v_hi) {
+  const CompiledTerms drift(model.drift);
+  const ExplicitForces forces(model);
+  double rho = 0.0;  // largest root modulus of λ² − bλ − a (a = ∂b2/∂x, b = ∂b2/∂y) over the box
+  const int nx = 41, nv = 11;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double x = x_lo + (x_hi - x_lo) * i / (nx - 1), v = v_lo + (v_hi - v_lo) * j / (nv - 1);
+      const double a = std::abs(drift.d_dx(x, v)) + (forces.stop ? std::abs(forces.k_stop) : 0.0);
+      const double b = std::abs(drift.d_dy(x, v, 0.0));
+      rho = std::max(rho, 0.5 * (b + std::sqrt(b * b + 4.0 * a)));
+    }
+  if (forces.harmonic) rho = std::max(rho, std::abs(forces.omega));
+  for (const auto& e : model.effects) {  // the hidden states' own rates
+    if (e.id == EffectId::ElectromechanicalCoupling)
+      rho = std::max({rho, std::abs(e.param("lambda")), std::sqrt(std::abs(e.param("coupling")))});
+    if (e.id == EffectId::ColoredNoise && e.param("tau") > 0.0) rho = std::max(rho, 1.0 / e.param("tau"));
+  }
+  const double n = std::ceil(rho * dt / 0.02);
+  return std::isfinite(n) ? static_cast<int>(std::clamp(n, 10.0, 2000.0)) : 10;
+}
+
 TwinSimulator::TwinSimulator(const Model& model, const Dataset& data, const TwinSettings& settings)
     : model_(model), data_(data), settings_(settings) {
   initial_states(data, settings.smoothing, x0_, y0_);
   harmonic_ = model.find_effect(EffectId::HarmonicForcing) != nullptr;
-  std::map<std::pair<std::size_t, double>, std::size_t> index;
+  if (model.uses_drive() && data.has_u() && settings.input != InputInterpolation::ZeroOrderHold)
+    fine_ = std::max(settings.substeps, 1);
+  std::map<std::tuple<std::size_t, double, std::size_t>, std::size_t> index;
   for (std::size_t r = 0; r < data.records.size(); ++r) {
     const auto& rec = data.records[r];
-    const std::pair<std::size_t, double> key{rec.size, harmonic_ ? rec.t0 : 0.0};
+    // records of one length (and start time, with harmonic forcing) are simulated together;
+    // with an interpolated input one at a time (memory: samples × substeps)
+    const std::tuple<std::size_t, double, std::size_t> key{rec.size, harmonic_ ? rec.t0 : 0.0, fine_ > 1 ? r : 0};
     auto it = index.find(key);
     if (it == index.end()) {
       it = index.emplace(key, groups_.size()).first;
-      groups_.push_back(Group{{}, key.second, rec.size});
+      groups_.push_back(Group{{}, std::get<1>(key), rec.size});
     }
     groups_[it->second].records.push_back(r);
   }
 }
 
+std::vector<double> TwinSimulator::drive_of(std::size_t r, std::size_t samples) const {
+  const double* u = data_.u_of(data_.records[r]);
+  std::vector<double> held(u, u + samples);
+  return fine_ > 1 ? likelihood::refine_input(held, fine_, settings_.input) : held;
+}
+
 void TwinSimulator::simulate(int rep, Dataset& out) {
   const double dt = data_.records.front().dt;
-  const bool one_group = groups_.size() == 1;
+  const bool one_group = groups_.size() == 1 && fine_ == 1;
   if (!one_group) {
     out.records = data_.records;
     out.x.resize(data_.x.size());
@@ -77,9 +112,9 @@ void TwinSimulator::simulate(int rep, Dataset& out) {
   for (std::size_t g = 0; g < groups_.size(); ++g) {
     const Group& G = groups_[g];
     sim::SimulationOptions o;
-    o.dt = dt;
-    o.substeps = settings_.substeps;
-    o.samples = G.samples;
+    o.dt = dt / fine_;
+    o.substeps = fine_ > 1 ? 1 : settings_.substeps;
+    o.samples = (G.samples - 1) * static_cast<std::size_t>(fine_) + 1;
     o.records = static_cast<int>(G.records.size());
     o.scheme = settings_.scheme;
     o.seed = splitmix(splitmix(settings_.seed) ^ (static_cast<std::uint64_t>(rep) << 32) ^ g);
@@ -90,10 +125,7 @@ void TwinSimulator::simulate(int rep, Dataset& out) {
     for (std::size_t r : G.records) {
       o.x0.values.push_back(x0_[r]);
       o.x0.y_values.push_back(y0_[r]);
-      if (model_.uses_drive() && data_.has_u()) {
-        const double* u = data_.u_of(data_.records[r]);
-        o.drive_per_record.emplace_back(u, u + G.samples);
-      }
+      if (model_.uses_drive() && data_.has_u()) o.drive_per_record.push_back(drive_of(r, G.samples));
     }
     Model m = model_;
     if (harmonic_ && G.t0 != 0.0)
@@ -120,9 +152,8 @@ void TwinSimulator::simulate(int rep, Dataset& out) {
     for (std::size_t i = 0; i < G.records.size(); ++i) {
       const Record& d = data_.records[G.records[i]];
       const Record& t = scratch_.records[i];
-      std::copy(scratch_.x.begin() + static_cast<std::ptrdiff_t>(t.offset),
-                scratch_.x.begin() + static_cast<std::ptrdiff_t>(t.offset + t.size),
-                out.x.begin() + static_cast<std::ptrdiff_t>(d.offset));
+      for (std::size_t k = 0; k < d.size; ++k)  // every fine_-th sample: the data's instants
+        out.x[d.offset + k] = scratch_.x[t.offset + k * static_cast<std::size_t>(fine_)];
       out.records[G.records[i]].source = "twin of " + d.source;
     }
   }

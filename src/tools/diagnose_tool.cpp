@@ -92,13 +92,17 @@ const ConfigSchema& diagnose_schema() {
           {"stride", "integer", "Stride of the central kinematics (0: the model file's, else 1).", "0"},
           {"sensor_noise", "number",
            "Standard deviation of white sensor noise on x assumed for the lens and the twins (default: the model "
-           "file's, else the data's sampling diagnosis).",
+           "file's likelihood.measurement_sd or sampling.sensor_noise_sd, else the data's sampling diagnosis); > 0: "
+           "the data are read as a noisy sensor of a continuous process.",
            "", true},
           {"twin_scheme", "string",
            "Scheme of the twins: auto (rk4_euler at the recorded step for scheme-consistent data, taylor15 on "
            "substeps otherwise), euler_maruyama, rk4_euler, baoab, taylor15.",
            "\"auto\""},
-          {"twin_substeps", "integer", "Internal steps per sample of the twins (0: 1 for scheme-consistent data, else 10).", "0"},
+          {"twin_substeps", "integer",
+           "Internal steps per sample of the twins (0: 1 for scheme-consistent data, else enough that rho*h <= "
+           "0.02 with rho the model's fastest linearised rate where the data are, at least 10).",
+           "0"},
           {"residual_lags", "integer", "Lags of the residual autocorrelation figure.", "64"},
           {"parameter_uncertainty", "string",
            "Include the model's parameter uncertainty in the stationary and x-spectrum tests (refit its terms on "
