@@ -36,6 +36,9 @@ bool RefineOptions::IsValid(std::string* error) const {
   if (warm_start_samples < 1000) return fail("warm_start_samples must be >= 1000");
   if (bias_correction_datasets < 0 || bias_correction_datasets > 1000)
     return fail("bias_correction_datasets must be in [0, 1000]");
+  if (bias_correction_datasets > 0 && per_record_phase)
+    return fail("bias_correction_datasets needs one shared harmonic phase (per_record_phase false): the simulator "
+                "has one phase");
   return true;
 }
 

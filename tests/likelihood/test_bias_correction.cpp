@@ -42,6 +42,10 @@ TEST_CASE("bias correction: simulated data sets copy the records, lengths, sampl
   std::string why;
   CHECK_FALSE(o.IsValid(&why));
   CHECK(why.find("bias_correction_datasets") != std::string::npos);
+  o.bias_correction_datasets = 4;
+  o.per_record_phase = true;
+  CHECK_FALSE(o.IsValid(&why));
+  CHECK(why.find("per_record_phase") != std::string::npos);
 }
 
 // False-failure probability per run ≤ 1e-4: four parameters, each shift outside
