@@ -5,7 +5,7 @@
 //        MODEL bistable | paper; NOISE 0 or 0.02 (share of std(x)); per seed: identify (auto,
 //        the "before") and the likelihood (start: identify's full-library fit, selection by
 //        BIC; B > 0: bias correction from B simulated data sets): exact support, max |z|, max
-//        relative error, coverage of the 95 % intervals
+//        relative error, coverage of the 95 % intervals; seeds FIRST_SEED … (environment, 0)
 //   bench_likelihood score MODEL DT NOISE SEEDS T_RECORD RECORDS [PF_RECORDS PARTICLES]
 //        the filter's score at the truth over seeds (its bias), variants that separate causes
 //   bench_likelihood innovations MODEL DT NOISE SEEDS T_RECORD RECORDS
@@ -179,7 +179,8 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
               "exact", "max|z|", "rel.err", "cover", "seconds", "cpu");
   int exact = 0, within = 0, covered = 0, total = 0, before_exact = 0;
   SignedErrors signed_errors;
-  for (int s = 0; s < seeds; ++s) {
+  const int first = std::getenv("FIRST_SEED") ? std::atoi(std::getenv("FIRST_SEED")) : 0;  // seeds FIRST …
+  for (int s = first; s < first + seeds; ++s) {
     const std::uint64_t seed = 1000 + std::uint64_t(s);
     const double sd = sd_of(simulate(truth, dt, 2, T, seed, 0.0).x);
     const double noise = noise_share * sd;

@@ -68,6 +68,7 @@ for ((i = 0; i < ${#parts[@]}; ++i)); do
     corrected_paper10noise) run "$p" "$bench" synthetic paper 0.236 0.02 "${PAPER_SEEDS:-20}" 1000 "${RECORDS:-8}" 8 ;;
     corrected_paper05) run "$p" "$bench" synthetic paper 0.118 0 "${PAPER_SEEDS:-20}" 1000 "${RECORDS:-8}" 8 ;;
     corrected_paper05noise) run "$p" "$bench" synthetic paper 0.118 0.02 "${PAPER_SEEDS:-20}" 1000 "${RECORDS:-8}" 8 ;;
+    corrected_paper05noise_more) FIRST_SEED=20 run "$p" "$bench" synthetic paper 0.118 0.02 20 1000 8 8 ;;
     corrected_bistable10) run "$p" "$bench" synthetic bistable 0.7 0 "${SEEDS:-20}" 2000 "${RECORDS:-8}" 8 ;;
     corrected_bistable10noise) run "$p" "$bench" synthetic bistable 0.7 0.02 "${SEEDS:-20}" 2000 "${RECORDS:-8}" 8 ;;
     corrected_bistable05) run "$p" "$bench" synthetic bistable 0.35 0 "${SEEDS:-20}" 2000 "${RECORDS:-8}" 8 ;;
