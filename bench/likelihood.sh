@@ -60,9 +60,10 @@ for ((i = 0; i < ${#parts[@]}; ++i)); do
     long_paper) run long_paper "$bench" synthetic paper 0.236 0 "${PAPER_SEEDS:-20}" 1000 32 ;;
     long_bistable) run long_bistable "$bench" synthetic bistable 0.7 0 "${SEEDS:-20}" 2000 32 ;;
     score) run score_paper10noise "$bench" score paper 0.236 0.02 40 1000 8 ;;
-    innovations) run innovations_paper10 bash -c "
+    innovations) run innovations_paper bash -c "
         '$bench' innovations paper 0.236 0.02 20 1000 8
-        '$bench' innovations paper 0.236 0    20 1000 8" ;;
+        '$bench' innovations paper 0.236 0    20 1000 8
+        '$bench' innovations paper 0.118 0.02 20 1000 8" ;;
     corrected) parts+=(corrected_paper10 corrected_paper10noise corrected_paper05 corrected_paper05noise
                        corrected_bistable10 corrected_bistable10noise corrected_bistable05 corrected_bistable05noise) ;;
     corrected_paper10) run "$p" "$bench" synthetic paper 0.236 0 "${PAPER_SEEDS:-20}" 1000 "${RECORDS:-8}" 8 ;;

@@ -32,7 +32,7 @@
 //    0.5 and 1.0): the filtered x is uncertain by about the noise, and where the walls turn the
 //    motion (|predicted x| 1.5–1.75 sd(x)) the Gaussian predictive variance is 2.0 ± 0.45 % too
 //    small (mean squared standardised innovation at the truth 1.020; 1.004 ± 0.004 without
-//    noise; elsewhere 1 within 0.5 %: bench/results/likelihood_innovations_paper10.txt). The
+//    noise; elsewhere 1 within 0.5 %: bench/results/likelihood_innovations_paper.txt). The
 //    likelihood makes up for it with a22's x² coefficient: the filter's score for 2Q at the
 //    truth has mean +1.02 of its sd per 8 records × 1000 time units with noise (6.5 SEs from 0
 //    over 40 seeds), +0.12 without, and 2Q comes out +5.7 ± 1.2 % (ω_max·Δt 1.0) and +5.0 ±
