@@ -42,7 +42,10 @@
 //    The bias grows with the record length in SE units (a bias of the estimating equation, not
 //    of a finite sample), so refine's simulation-based correction
 //    (RefineOptions::bias_correction_datasets, detail/bias_correction.hpp) removes it there:
-//    2Q −0.6 ± 1.4 % at ω_max·Δt 1.0 (bench/results/likelihood_corrected_paper10noise.txt).
+//    2Q −0.6 ± 1.4 % at ω_max·Δt 1.0 over 20 seeds, −0.2 ± 0.8 % with 4× the records
+//    (bench/results/likelihood_corrected_*paper10noise.txt). At ω_max·Δt 0.5 the closure error
+//    is smaller (mean squared innovation at the walls 1.0037 ± 0.0032) and the corrected 2Q is
+//    +2.1 ± 1.1 % over 40 seeds (likelihood_corrected_paper05noise*.txt).
 //  * The first samples of a block depend on data-based priors of the hidden states; with a
 //    hidden state slower than the block (λ or 1/τ ≪ 1/length) those priors matter.
 // Calibration of the resulting estimates (coverage of 95 % intervals over seeds):
