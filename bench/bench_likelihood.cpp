@@ -1,10 +1,15 @@
 // Benchmarks of the likelihood refinement (issue 12). Run them all with bench/likelihood.sh,
 // which writes bench/results/likelihood*.txt; each subcommand prints its own table:
 //
-//   bench_likelihood synthetic MODEL DT NOISE SEEDS T_RECORD RECORDS
+//   bench_likelihood synthetic MODEL DT NOISE SEEDS T_RECORD RECORDS [B]
 //        MODEL bistable | paper; NOISE 0 or 0.02 (share of std(x)); per seed: identify (auto,
 //        the "before") and the likelihood (start: identify's full-library fit, selection by
-//        BIC): exact support, max |z|, max relative error, coverage of the 95 % intervals
+//        BIC; B > 0: bias correction from B simulated data sets): exact support, max |z|, max
+//        relative error, coverage of the 95 % intervals; seeds FIRST_SEED … (environment, 0)
+//   bench_likelihood score MODEL DT NOISE SEEDS T_RECORD RECORDS [PF_RECORDS PARTICLES]
+//        the filter's score at the truth over seeds (its bias), variants that separate causes
+//   bench_likelihood innovations MODEL DT NOISE SEEDS T_RECORD RECORDS
+//        standardised one-step innovations at the truth, binned by the predicted |x|
 //   bench_likelihood driven SEEDS           driven Duffing, 10 samples per period, free run on a
 //                                           fresh input against the noise floor
 //   bench_likelihood effects SEEDS [FIRST [EFFECT]]  electromechanical, coloured, per-record
@@ -157,7 +162,7 @@ std::vector<Term> terms(std::initializer_list<const char*> names) {
   return t;
 }
 
-int synthetic(const std::string& which, double dt, double noise_share, int seeds, double T, int records) {
+int synthetic(const std::string& which, double dt, double noise_share, int seeds, double T, int records, int bias_sets) {
   const Model truth = which == "paper" ? paper() : bistable();
   identify::Options io;
   if (which == "paper") {
@@ -167,13 +172,15 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
     io.drift_library = terms({"1", "x", "x^2", "x^3", "x^5", "y", "x^2*y"});
     io.diffusion_library = terms({"1", "x^2"});
   }
-  std::printf("# synthetic %s dt %.3f noise %.2f*sd(x), %d records x %.0f time units, library %zu drift + %zu diffusion terms\n",
-              which.c_str(), dt, noise_share, records, T, io.drift_library.size(), io.diffusion_library.size());
+  std::printf("# synthetic %s dt %.3f noise %.2f*sd(x), %d records x %.0f time units, library %zu drift + %zu diffusion terms%s\n",
+              which.c_str(), dt, noise_share, records, T, io.drift_library.size(), io.diffusion_library.size(),
+              bias_sets > 0 ? (", bias correction from " + std::to_string(bias_sets) + " simulated data sets").c_str() : "");
   std::printf("%-5s %-8s | %-6s %8s %-40s | %-6s %7s %7s %6s %7s %7s\n", "seed", "samples", "before", "rel.err", "before support",
               "exact", "max|z|", "rel.err", "cover", "seconds", "cpu");
   int exact = 0, within = 0, covered = 0, total = 0, before_exact = 0;
   SignedErrors signed_errors;
-  for (int s = 0; s < seeds; ++s) {
+  const int first = std::getenv("FIRST_SEED") ? std::atoi(std::getenv("FIRST_SEED")) : 0;  // seeds FIRST …
+  for (int s = first; s < first + seeds; ++s) {
     const std::uint64_t seed = 1000 + std::uint64_t(s);
     const double sd = sd_of(simulate(truth, dt, 2, T, seed, 0.0).x);
     const double noise = noise_share * sd;
@@ -185,6 +192,8 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
     likelihood::RefineOptions o;
     o.select = true;
     o.estimate_measurement_noise = true;
+    o.bias_correction_datasets = bias_sets;
+    o.bias_correction_seed = 77000 + 100 * std::uint64_t(s);
     const bool verbose = std::getenv("VEHS_PROGRESS") != nullptr;
     if (verbose) o.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
     const auto t0 = Clock::now();
@@ -391,14 +400,14 @@ int speed(double max_samples) {
 }
 
 
-/// Bootstrap particle filter of the same observed model (bistable drift, additive noise):
+/// Bootstrap particle filter of the same observed model (drift and diffusion of the model, additive noise):
 /// semi-implicit Euler–Maruyama (velocity first: explicit Euler would add energy at a rate
 /// comparable to the damping) with 40 substeps per interval, systematic resampling, the
 /// filter's priors.
 double particle_log_likelihood(const Model& m, double r, const Dataset& d, int particles, std::uint64_t seed) {
   const double dt = d.records[0].dt;
   const int sub = 40;
-  const double h = dt / sub, sq = std::sqrt(m.a22(0, 0) * h);
+  const double h = dt / sub;
   double s2 = 0, nd = 0;
   for (const auto& rec : d.records)
     for (std::size_t k = 0; k + 1 < rec.size; ++k) {
@@ -426,7 +435,7 @@ double particle_log_likelihood(const Model& m, double r, const Dataset& d, int p
         for (int i = 0; i < particles; ++i) {
           double a = x[std::size_t(i)], b = y[std::size_t(i)];
           for (int j = 0; j < sub; ++j) {  // semi-implicit (symplectic) Euler: no energy drift
-            b += m.b2(a, b) * h + sq * n2(gl);
+            b += m.b2(a, b) * h + std::sqrt(std::max(m.a22(a, b), 0.0) * h) * n2(gl);
             a += b * h;
           }
           x[std::size_t(i)] = a;
@@ -593,6 +602,191 @@ int silverbox(const std::string& csv) {
   std::printf("\n");
   return 0;
 }
+
+/// A parameter of the truth perturbed by a relative step: drift or diffusion coefficient by
+/// name, or "measurement_sd".
+struct Perturbed {
+  Model model;
+  double r;
+};
+Perturbed perturb(const Model& truth, double r, const std::string& name, double rel) {
+  Perturbed p{truth, r};
+  if (name == "measurement_sd") p.r *= 1 + rel;
+  for (auto& tc : p.model.diffusion)
+    if ("diffusion[" + tc.term.name() + "]" == name) tc.coef *= 1 + rel;
+  for (auto& tc : p.model.drift)
+    if ("drift[" + tc.term.name() + "]" == name) tc.coef *= 1 + rel;
+  return p;
+}
+double value_of(const Model& truth, double r, const std::string& name) {
+  if (name == "measurement_sd") return r;
+  for (const auto& tc : truth.diffusion)
+    if ("diffusion[" + tc.term.name() + "]" == name) return tc.coef;
+  for (const auto& tc : truth.drift)
+    if ("drift[" + tc.term.name() + "]" == name) return tc.coef;
+  return 0;
+}
+
+/// Mean and SE of a list.
+std::pair<double, double> mean_se(const std::vector<double>& v) {
+  const double n = double(v.size());
+  double m = 0, q = 0;
+  for (double x : v) m += x / n;
+  for (double x : v) q += (x - m) * (x - m) / (n - 1);
+  return {m, std::sqrt(q / n)};
+}
+
+/// The score at the truth, ∂log L/∂θ by central differences of the filter's log L, over seeds:
+/// the exact likelihood's score has mean 0 at the truth, so a mean score several SEs from 0 is
+/// a bias of the filter's estimating equation (present at any record length; not a finite-sample
+/// effect). Its size in estimate units: I⁻¹·E[score], with I the covariance of the scores over
+/// seeds (information identity). The same data under variants separate the causes (paired
+/// differences against the first): substeps (4x the automatic), block-start priors (blocks of
+/// 512 samples: 8x the block starts), and the noise-free record of the same path (also the
+/// generator check: noisy − clean must be white with sd = measurement_sd). With PF_RECORDS > 0,
+/// the particle filter's score on the first PF_RECORDS records, paired with the filter's on them.
+int score_study(const std::string& which, double dt, double noise_share, int seeds, double T, int records,
+                int pf_records, int particles) {
+  const Model truth = which == "paper" ? paper() : bistable();
+  std::printf("# score at the truth: %s dt %.3f noise %.2f*sd(x), %d records x %.0f time units, %d seeds; d logL/d theta "
+              "by central differences (h = 1e-3 relative)\n", which.c_str(), dt, noise_share, records, T, seeds);
+  struct Variant { const char* name; int substeps_factor; std::size_t block; bool clean; };
+  const Variant variants[] = {{"noisy, automatic substeps", 1, 1 << 14, false},
+                              {"noisy, 4x substeps", 4, 1 << 14, false},
+                              {"noisy, blocks of 512 (8x priors)", 1, 512, false},
+                              {"clean (no sensor noise), same path", 1, 1 << 14, true}};
+  std::vector<std::string> names;
+  for (const auto& tc : truth.drift) names.push_back("drift[" + tc.term.name() + "]");
+  for (const auto& tc : truth.diffusion) names.push_back("diffusion[" + tc.term.name() + "]");
+  if (noise_share > 0) names.push_back("measurement_sd");
+  const std::size_t nv = std::size(variants), np = names.size();
+  std::vector<std::vector<Eigen::VectorXd>> scores(nv);
+  std::vector<double> pf_diff, pf_filter, pf_pf;
+  double gen_sd = 0, gen_r1 = 0;
+  int subs = 0;
+  auto score_of = [&](const Dataset& d, double r, const std::string& name, const likelihood::FilterOptions& fo) {
+    const double h = 1e-3, c = value_of(truth, r, name);
+    auto at = [&](double rel) {
+      const Perturbed p = perturb(truth, r, name, rel);
+      return likelihood::log_likelihood({p.model, p.r, {}}, d, fo).log_likelihood;
+    };
+    return (at(h) - at(-h)) / (2 * h * c);
+  };
+  for (int s = 0; s < seeds; ++s) {
+    const std::uint64_t seed = 1000 + std::uint64_t(s);
+    const double sd = sd_of(simulate(truth, dt, 2, T, seed, 0.0).x);
+    const double noise = noise_share * sd;
+    const Dataset noisy = simulate(truth, dt, records, T, seed, noise);
+    const Dataset clean = simulate(truth, dt, records, T, seed, 0.0);
+    if (noise > 0) {  // the generator: noisy − clean
+      double s2 = 0, c1 = 0;
+      for (std::size_t i = 0; i < noisy.x.size(); ++i) {
+        const double e = noisy.x[i] - clean.x[i];
+        s2 += e * e;
+        if (i > 0) c1 += e * (noisy.x[i - 1] - clean.x[i - 1]);
+      }
+      gen_sd += std::sqrt(s2 / double(noisy.x.size())) / noise / seeds;
+      gen_r1 += c1 / s2 / seeds;
+    }
+    for (std::size_t v = 0; v < nv; ++v) {
+      likelihood::FilterOptions fo;
+      fo.block_samples = variants[v].block;
+      const Dataset& d = variants[v].clean ? clean : noisy;
+      const double r = variants[v].clean ? 0.0 : noise;
+      const int auto_sub = likelihood::log_likelihood({truth, r, {}}, d, fo).substeps;
+      subs = std::max(subs, auto_sub);
+      fo.substeps = auto_sub * variants[v].substeps_factor;
+      Eigen::VectorXd g = Eigen::VectorXd::Zero(long(np));
+      for (std::size_t j = 0; j < np; ++j)
+        if (!(variants[v].clean && names[j] == "measurement_sd")) g[long(j)] = score_of(d, r, names[j], fo);
+      scores[v].push_back(g);
+    }
+    if (pf_records > 0) {  // 2Q: the filter's and the particle filter's score on the same records
+      const Dataset small = simulate(truth, dt, pf_records, T, seed, noise);
+      const std::string name = "diffusion[x^2]";
+      const double h = 0.05, c = value_of(truth, noise, name);
+      const double sf = score_of(small, noise, name, {});
+      const Perturbed up = perturb(truth, noise, name, h), dn = perturb(truth, noise, name, -h);
+      const double sp = (particle_log_likelihood(up.model, noise, small, particles, seed) -
+                         particle_log_likelihood(dn.model, noise, small, particles, seed)) / (2 * h * c);
+      pf_filter.push_back(sf);
+      pf_pf.push_back(sp);
+      pf_diff.push_back(sf - sp);
+    }
+    if (std::getenv("VEHS_PROGRESS")) std::fprintf(stderr, "seed %d done\n", s);
+  }
+  if (noise_share > 0)
+    std::printf("generator: rms(noisy - clean)/measurement_sd %.4f, lag-1 correlation %+.4f (white: 1, 0 +- %.4f)\n",
+                gen_sd, gen_r1, 1 / std::sqrt(double(records) * T / dt * seeds));
+  std::printf("filter substeps (automatic) %d\n", subs);
+  std::printf("%-36s %-16s %11s %9s %9s %8s %11s %9s\n", "variant", "parameter", "mean score", "+- SE", "sd", "mean/sd",
+              "diff vs 1st", "+- SE");
+  for (std::size_t v = 0; v < nv; ++v)
+    for (std::size_t j = 0; j < np; ++j) {
+      if (variants[v].clean && names[j] == "measurement_sd") continue;
+      std::vector<double> col, diff;
+      for (std::size_t k = 0; k < scores[v].size(); ++k) {
+        col.push_back(scores[v][k][long(j)]);
+        diff.push_back(scores[v][k][long(j)] - scores[0][k][long(j)]);
+      }
+      const auto [mu, se] = mean_se(col);
+      const auto [md, sed] = mean_se(diff);
+      const double sd = se * std::sqrt(double(col.size()));
+      std::printf("%-36s %-16s %11.4g %9.3g %9.3g %+8.3f %11.4g %9.3g\n", variants[v].name, names[j].c_str(), mu, se, sd,
+                  mu / sd, md, sed);
+    }
+  std::printf("(mean/sd: the score's bias in units of its sd = sqrt(Fisher information of that parameter alone); "
+              "diff vs 1st: the paired difference of the scores on the same data, variant minus the first)\n");
+  if (pf_records > 0) {
+    const auto [mf, sf] = mean_se(pf_filter);
+    const auto [mp, sp] = mean_se(pf_pf);
+    const auto [md, sd] = mean_se(pf_diff);
+    std::printf("diffusion[x^2] score on %d record(s) per seed, particle filter %d particles (h = 5 %%, common random "
+                "numbers): filter %.4g +- %.3g, particle filter %.4g +- %.3g, filter - particle filter %.4g +- %.3g\n",
+                pf_records, particles, mf, sf, mp, sp, md, sd);
+  }
+  std::printf("\n");
+  return 0;
+}
+
+/// The filter's one-step predictions at the truth, calibrated against the data: the standardised
+/// innovation z_k = (x_k − m_k)/√S_k has mean 0 and variance 1 under the exact predictive law, at
+/// every level of the predicted |x|. Binned by |m_k|/sd(x), mean z·sign(m_k) and mean z² ± SE,
+/// over all seeds' records. A mean z² above 1 where the drift is stiff means the Gaussian
+/// predictive variance is too small there — what an estimate of a22's x² coefficient makes up for.
+int innovations(const std::string& which, double dt, double noise_share, int seeds, double T, int records) {
+  const Model truth = which == "paper" ? paper() : bistable();
+  std::printf("# standardised innovations at the truth: %s dt %.3f noise %.2f*sd(x), %d seeds x %d records x %.0f time "
+              "units\n", which.c_str(), dt, noise_share, seeds, records, T);
+  const std::vector<double> edges = {0, 0.5, 1.0, 1.25, 1.5, 1.75, 2.0, 1e9};
+  const std::size_t nb = edges.size() - 1;
+  std::vector<std::vector<double>> z1(nb), z2(nb);
+  for (int s = 0; s < seeds; ++s) {
+    const std::uint64_t seed = 1000 + std::uint64_t(s);
+    const double sd = sd_of(simulate(truth, dt, 2, T, seed, 0.0).x);
+    const double noise = noise_share * sd;
+    const Dataset d = simulate(truth, dt, records, T, seed, noise);
+    const likelihood::FilterTrace tr = likelihood::filter_trace({truth, noise, {}}, d);
+    for (std::size_t i = 0; i < d.x.size(); ++i) {
+      if (!(tr.predicted_var[i] > 0)) continue;
+      const double m = tr.predicted_x[i], z = (d.x[i] - m) / std::sqrt(tr.predicted_var[i]);
+      std::size_t b = 0;
+      while (b + 1 < nb && std::abs(m) / sd >= edges[b + 1]) ++b;
+      z1[b].push_back(m >= 0 ? z : -z);
+      z2[b].push_back(z * z);
+    }
+  }
+  std::printf("%-12s %9s %16s %16s\n", "|m|/sd(x)", "samples", "mean z sign(m)", "mean z^2");
+  for (std::size_t b = 0; b < nb; ++b) {
+    if (z1[b].size() < 2) continue;
+    const auto [a, as] = mean_se(z1[b]);
+    const auto [q, qs] = mean_se(z2[b]);
+    std::printf("%4.2f-%-7.2f %9zu %+8.4f +-%.4f %8.4f +-%.4f\n", edges[b], std::min(edges[b + 1], 99.0), z1[b].size(), a, as,
+                q, qs);
+  }
+  std::printf("\n");
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -600,7 +794,13 @@ int main(int argc, char** argv) {
     const std::string cmd = argc > 1 ? argv[1] : "";
     auto arg = [&](int i, double def) { return argc > i ? std::atof(argv[i]) : def; };
     if (cmd == "synthetic")
-      return synthetic(argc > 2 ? argv[2] : "bistable", arg(3, 0.35), arg(4, 0.0), int(arg(5, 20)), arg(6, 8000), int(arg(7, 10)));
+      return synthetic(argc > 2 ? argv[2] : "bistable", arg(3, 0.35), arg(4, 0.0), int(arg(5, 20)), arg(6, 8000), int(arg(7, 10)),
+                       int(arg(8, 0)));
+    if (cmd == "score")
+      return score_study(argc > 2 ? argv[2] : "paper", arg(3, 0.236), arg(4, 0.02), int(arg(5, 20)), arg(6, 1000), int(arg(7, 8)),
+                         int(arg(8, 0)), int(arg(9, 2000)));
+    if (cmd == "innovations")
+      return innovations(argc > 2 ? argv[2] : "paper", arg(3, 0.236), arg(4, 0.02), int(arg(5, 20)), arg(6, 1000), int(arg(7, 8)));
     if (cmd == "driven") return driven(int(arg(2, 20)));
     if (cmd == "effects") return effects(int(arg(2, 20)), int(arg(3, 0)), argc > 4 ? argv[4] : "");
     if (cmd == "speed") return speed(arg(2, 1e6));

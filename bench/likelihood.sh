@@ -1,11 +1,20 @@
 #!/usr/bin/env bash
 # The likelihood benchmarks of issue 12, written to bench/results/likelihood_<part>.txt:
 #   bench/likelihood.sh [silverbox] [narx] [synthetic] [paper] [driven] [effects] [speed] [gaussian] [long]
+#                       [score] [innovations] [corrected]
 # (no argument: all but long). `paper` is paper10 paper10noise paper05 paper05noise (the paper's
 # model at omega_max*dt 1.0 and 0.5, without and with 2 % sensor noise), each its own results
 # file and part; `long` re-runs the omega*dt 1.0 cases with 4x the records (long_paper,
 # long_bistable): the per-parameter bias over the seeds when the SEs are well under 5 %;
 # `effects_harmonic` is the per-record-phase harmonic forcing row of `effects` alone.
+# The filter's bias with sensor noise (the paper's model, 2Q): `score` (the filter's score at the
+# truth over 40 seeds: its mean is 0 for the exact likelihood; variants separate substeps,
+# block-start priors and the generator), `innovations` (standardised innovations at the truth
+# by the predicted |x|); `corrected` runs the four conditions of each model with the bias
+# correction (RefineOptions::bias_correction_datasets = 8) at RECORDS records (default 8) per
+# seed: corrected_{paper10,paper10noise,paper05,paper05noise,bistable10,bistable10noise,
+# bistable05,bistable05noise}; corrected_long_paper10noise (32 records, 10 seeds) and
+# corrected_paper05noise_more (seeds 20-39) are run on request.
 # VEHS_BENCH_LIKELIHOOD=path runs that binary (a copy, so that rebuilds cannot touch a study).
 # `narx` installs SysIdentPy (PyPI; an optional dependency of this benchmark only) into build/bench-venv and fits polynomial NARX models on the same Silverbox
 # split. Long: run under nice; the synthetic part takes about an hour on 2 cores.
@@ -50,6 +59,23 @@ for ((i = 0; i < ${#parts[@]}; ++i)); do
     long) parts+=(long_paper long_bistable) ;;
     long_paper) run long_paper "$bench" synthetic paper 0.236 0 "${PAPER_SEEDS:-20}" 1000 32 ;;
     long_bistable) run long_bistable "$bench" synthetic bistable 0.7 0 "${SEEDS:-20}" 2000 32 ;;
+    score) run score_paper10noise "$bench" score paper 0.236 0.02 40 1000 8 ;;
+    innovations) run innovations_paper bash -c "
+        '$bench' innovations paper 0.236 0.02 20 1000 8
+        '$bench' innovations paper 0.236 0    20 1000 8
+        '$bench' innovations paper 0.118 0.02 20 1000 8" ;;
+    corrected) parts+=(corrected_paper10 corrected_paper10noise corrected_paper05 corrected_paper05noise
+                       corrected_bistable10 corrected_bistable10noise corrected_bistable05 corrected_bistable05noise) ;;
+    corrected_paper10) run "$p" "$bench" synthetic paper 0.236 0 "${PAPER_SEEDS:-20}" 1000 "${RECORDS:-8}" 8 ;;
+    corrected_paper10noise) run "$p" "$bench" synthetic paper 0.236 0.02 "${PAPER_SEEDS:-20}" 1000 "${RECORDS:-8}" 8 ;;
+    corrected_paper05) run "$p" "$bench" synthetic paper 0.118 0 "${PAPER_SEEDS:-20}" 1000 "${RECORDS:-8}" 8 ;;
+    corrected_paper05noise) run "$p" "$bench" synthetic paper 0.118 0.02 "${PAPER_SEEDS:-20}" 1000 "${RECORDS:-8}" 8 ;;
+    corrected_long_paper10noise) run "$p" "$bench" synthetic paper 0.236 0.02 "${PAPER_SEEDS:-10}" 1000 32 8 ;;
+    corrected_paper05noise_more) FIRST_SEED=20 run "$p" "$bench" synthetic paper 0.118 0.02 20 1000 8 8 ;;
+    corrected_bistable10) run "$p" "$bench" synthetic bistable 0.7 0 "${SEEDS:-20}" 2000 "${RECORDS:-8}" 8 ;;
+    corrected_bistable10noise) run "$p" "$bench" synthetic bistable 0.7 0.02 "${SEEDS:-20}" 2000 "${RECORDS:-8}" 8 ;;
+    corrected_bistable05) run "$p" "$bench" synthetic bistable 0.35 0 "${SEEDS:-20}" 2000 "${RECORDS:-8}" 8 ;;
+    corrected_bistable05noise) run "$p" "$bench" synthetic bistable 0.35 0.02 "${SEEDS:-20}" 2000 "${RECORDS:-8}" 8 ;;
     driven) run driven "$bench" driven "${SEEDS:-20}" ;;
     effects) run effects "$bench" effects "${SEEDS:-20}" ;;
     effects_harmonic) run effects_harmonic "$bench" effects "${SEEDS:-20}" 0 harmonic_forcing ;;

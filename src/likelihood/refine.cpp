@@ -11,6 +11,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "vehs/core/error.hpp"
+#include "vehs/likelihood/detail/bias_correction.hpp"
 #include "vehs/likelihood/detail/evaluator.hpp"
 #include "vehs/likelihood/detail/selection.hpp"
 
@@ -33,6 +34,11 @@ bool RefineOptions::IsValid(std::string* error) const {
   if (max_rounds < 1) return fail("max_rounds must be >= 1");
   if (!(step_tolerance > 0.0)) return fail("step_tolerance must be > 0");
   if (warm_start_samples < 1000) return fail("warm_start_samples must be >= 1000");
+  if (bias_correction_datasets < 0 || bias_correction_datasets > 1000)
+    return fail("bias_correction_datasets must be in [0, 1000]");
+  if (bias_correction_datasets > 0 && per_record_phase)
+    return fail("bias_correction_datasets needs one shared harmonic phase (per_record_phase false): the simulator "
+                "has one phase");
   return true;
 }
 
@@ -63,6 +69,9 @@ std::string Summary::FullReport() const {
     os << "  selection: remove " << s.removed << " (|z| " << s.z << "): 2 dlogL " << s.delta
        << (s.accepted ? " < " : " >= ") << s.threshold << (s.accepted ? " removed" : " kept")
        << "\n";
+  if (bias_correction_datasets > 0)
+    os << "  bias correction: " << bias_correction_datasets << " simulated data sets, largest shift "
+       << bias_correction_max_se << " SE (covariance x " << 1.0 + 1.0 / bias_correction_datasets << ")\n";
   return os.str();
 }
 
@@ -450,8 +459,13 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
   }
   repair_start(first, data, options.filter);
   if (options.per_record_phase) scan_record_phases(first, data, options, choice);
-  if (!options.select) return detail::fit_support(first, data, options, choice, true);
-  return detail::select_support(first, data, options, choice);
+  Result res = options.select ? detail::select_support(first, data, options, choice)
+                              : detail::fit_support(first, data, options, choice, true);
+  if (options.bias_correction_datasets > 0) {
+    choice.fit_measurement_noise = res.find("measurement_sd") >= 0;
+    detail::correct_filter_bias(res, data, options, choice);
+  }
+  return res;
 }
 
 }  // namespace vehs::likelihood

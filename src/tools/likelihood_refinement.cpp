@@ -24,7 +24,9 @@ const char* const kLikelihoodHelp =
     "covariance (standard errors: \"observed\" information, \"fisher\", \"sandwich\"), "
     "measurement_noise (true: estimate white sensor noise on x), per_record_phase (true: one "
     "harmonic_forcing phase per record, amplitude and omega shared; records started at unrelated "
-    "times), substeps (RK4 substeps per interval, 0: automatic), max_rounds. The model file then "
+    "times), substeps (RK4 substeps per interval, 0: automatic), max_rounds, bias_correction (B > 0: "
+    "remove the Gaussian filter's own bias by B data sets simulated at the estimate, standard errors "
+    "x sqrt(1 + 1/B); advised with sensor noise on a stiff potential, default 0). The model file then "
     "holds \"likelihood\": measurement_sd, record_phases, log_likelihood, bic, observations, the "
     "parameters with their covariance matrix, and estimator.input.";
 
@@ -86,7 +88,8 @@ LikelihoodSettings likelihood_settings(const Config& c) {
   o.covariance = likelihood::Covariance::Observed;
   if (!c.has("likelihood")) return s;
   const Config l = c.object("likelihood", {"use", "input", "select", "criterion", "lr_alpha", "covariance",
-                                           "measurement_noise", "per_record_phase", "substeps", "max_rounds"});
+                                           "measurement_noise", "per_record_phase", "substeps", "max_rounds",
+                                           "bias_correction"});
   s.use = use_from_string(l, "use", l.string_or("use", "always"));
   if (estimator == "likelihood" && s.use != LikelihoodUse::Always)
     l.fail("use", "contradicts estimator \"likelihood\"");
@@ -103,6 +106,9 @@ LikelihoodSettings likelihood_settings(const Config& c) {
   if (sub > 1000) l.fail("substeps", "must be <= 1000");
   o.filter.substeps = static_cast<int>(sub);
   o.max_rounds = static_cast<int>(l.integer_at_least("max_rounds", 1, 20));
+  const long long bias_sets = l.integer_at_least("bias_correction", 0, 0);
+  if (bias_sets > 1000) l.fail("bias_correction", "must be <= 1000");
+  o.bias_correction_datasets = static_cast<int>(bias_sets);
   std::string why;
   if (!o.IsValid(&why)) throw Error(c.where("likelihood") + ": " + why);
   return s;

@@ -149,6 +149,8 @@ TEST_CASE("identify-vehs: bad likelihood settings and unsupported input interpol
       {R"("likelihood": {"per_record_phase": true}})", "no harmonic_forcing effect"},
       {R"("likelihood": {"use": "never"}, "estimator": "likelihood"})", "contradicts estimator"},
       {R"("likelihood": {"lr_alpha": 2}})", "lr_alpha"},
+      {R"("likelihood": {"bias_correction": -1}})", "likelihood.bias_correction"},
+      {R"("likelihood": {"bias_correction": 1001}})", "likelihood.bias_correction"},
       {R"("samples": [10, 20000]})", "but the record has"},
       {R"("samples": [0, 5]})", "'samples' must be [first, last]"},
   };

@@ -44,6 +44,7 @@
 // and the next candidate tried. Terms in keep_drift /
 // keep_diffusion, diffusion[1] and effect parameters are never removed.
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -86,6 +87,11 @@ struct RefineOptions {
   int max_rounds = 20;                ///< whitening rounds
   std::size_t warm_start_samples = 30000;  ///< larger data: first fitted on 1/8 of every record
   double step_tolerance = 0.01;       ///< convergence: Newton step below this many SE
+  /// B > 0: the filter's own bias removed by simulation (detail/bias_correction.hpp): the
+  /// estimate minus I⁻¹ × the mean score at it over B data sets simulated at it like the data;
+  /// covariance × (1 + 1/B). 0: off. Costs B simulations and B gradient passes.
+  int bias_correction_datasets = 0;
+  std::uint64_t bias_correction_seed = 1;  ///< seed of the first simulated data set
   /// Receives one line per fit and per selection step (the library itself never prints).
   std::function<void(const std::string&)> log;
 
@@ -113,6 +119,8 @@ struct Summary {
   std::size_t observations = 0, blocks = 0, parameters = 0;
   std::string covariance;       ///< method used (a failed observed falls back to fisher)
   std::vector<SelectionStep> selection;
+  int bias_correction_datasets = 0;     ///< B of the bias correction (0: none)
+  double bias_correction_max_se = 0.0;  ///< its largest shift, in the fit's SEs
 
   std::string BriefReport() const;
   std::string FullReport() const;
