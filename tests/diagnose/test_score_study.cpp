@@ -1,0 +1,173 @@
+// Issue 13's study of the score-test suspects over seeds (a hidden bench, data/diagnose/README.md
+// "The study over seeds"): for every hidden-effect case of score_fixtures.hpp and seeds 100 + k,
+//  * power: the baseline's score suspects — the hidden effect named first and significant (alone,
+//    or with a look-alike it is not resolved from), any claim, the suspect's z beside the
+//    oracle's (the likelihood refitted with the hidden effect: the Wald z of its parameter);
+//  * the loop (issue 13's third item): the baseline fitted by identify with the named effect
+//    added — adequate by diagnose, the verdict's score at most half the baseline's, every
+//    parameter of the hidden effect within 3 SE and within 15 % of a non-zero truth;
+//  * the confusion counts (hidden → named first and significant).
+//   bench/diagnose_score_study.sh CASE [SEEDS [SEED0]]        (one case, nice 10, one thread)
+//   VEHS_SCORE_SEEDS=10 VEHS_SCORE_CASE=a,b build/tests/test_diagnose "[.score_study]"
+// VEHS_SCORE_SEED0=k: seeds k … k + SEEDS − 1; VEHS_SCORE_LOOP=0: no loop (power only);
+// VEHS_SCORE_RECORDS=n: n records instead of the case's (all of them tested: no sample cap).
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "vehs/core/model.hpp"
+#include "vehs/diagnose/diagnose.hpp"
+#include "vehs/diagnose/score_suspects.hpp"
+#include "vehs/identify/identify.hpp"
+
+#include "diagnose_fixtures.hpp"
+#include "score_fixtures.hpp"
+#include "score_runs.hpp"
+
+using namespace vehs;
+using namespace score_test;
+
+namespace {
+
+int env_int(const char* name, int fallback) { return std::getenv(name) ? std::atoi(std::getenv(name)) : fallback; }
+
+/// Issue 13's third item for one seed: what held, and a line saying why not.
+struct LoopCheck {
+  bool adequate = false, halved = false, params = false;
+  std::string text;
+  bool all() const { return adequate && halved && params; }
+};
+
+/// The hidden effect's true parameters and the refit's (with standard errors), by name.
+struct Fitted {
+  std::map<std::string, double> truth, value, stderr_;
+};
+
+Fitted effect_fit(const Model& truth, const Model& refit, const Effect& added) {
+  Fitted f;
+  if (effect_spec(added.id).term_like) {
+    const Effect t = identify::effect_parameters(truth, {added}).at(0);
+    const Effect e = identify::effect_parameters(refit, {added}).at(0);
+    f.truth = t.params, f.value = e.params, f.stderr_ = e.stderr_;
+  } else {
+    const Effect* t = truth.find_effect(added.id);
+    const Effect* e = refit.find_effect(added.id);
+    if (!t || !e) return f;
+    f.truth = t->params, f.value = e->params, f.stderr_ = e->stderr_;
+  }
+  return f;
+}
+
+diagnose::Options loop_options(std::uint64_t seed) {
+  diagnose::Options o = diag_test::fast_options(seed);
+  o.fpk = false;
+  o.suspects.enabled = false;        // the held-out suspects: not what is measured here
+  o.score_suspects.enabled = true;   // as diagnose-vehs runs them
+  return o;
+}
+
+LoopCheck run_loop(const HiddenCase& hc, const Dataset& d, const Outcome& o, std::uint64_t seed) {
+  LoopCheck c;
+  const auto& top = o.report.ranked.front();
+  if (top.effect != hc.name) {
+    c.text = "named " + top.effect + ", not the hidden effect";
+    return c;
+  }
+  if (hc.phase_per_record) {
+    c.text = "not measured: identify fits one phase shared by the records";
+    return c;
+  }
+  Effect added;
+  added.id = enum_from_string(kEffectNames, top.effect, "suspect");
+  identify::Options io = baseline_options_for(hc);
+  io.effects = {added};
+  const Model refit = identify::identify(d, io).model;
+  const diagnose::Result r0 = diagnose::diagnose(o.baseline, d, loop_options(seed));
+  const diagnose::Result r1 = diagnose::diagnose(refit, d, loop_options(seed + 1000));
+  c.adequate = r1.adequate();
+  c.halved = r1.score <= 0.5 * r0.score;
+  const Fitted f = effect_fit(truth_of(hc), refit, added);
+  c.params = !f.truth.empty();
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "baseline %s score %.3g, refit %s score %.3g;", r0.adequate() ? "adequate" : "inadequate",
+                r0.score, r1.adequate() ? "adequate" : "inadequate", r1.score);
+  c.text = buf;
+  for (const auto& [name, truth] : f.truth) {
+    if (!f.value.count(name) || !f.stderr_.count(name)) continue;  // e.g. a gap_neg the truth shares with gap
+    const double est = f.value.at(name), se = f.stderr_.at(name);
+    const double err = name == "phase" ? std::remainder(est - truth, 2.0 * M_PI) : est - truth;
+    const bool ok = std::abs(err) <= 3.0 * se && (truth == 0.0 || std::abs(err) <= 0.15 * std::abs(truth));
+    c.params = c.params && ok;
+    std::snprintf(buf, sizeof buf, " %s %.4g ± %.2g (truth %.4g)%s", name.c_str(), est, se, truth, ok ? "" : " OUT");
+    c.text += buf;
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusion matrix (bench)", "[.score_study]") {
+  const int seeds = env_int("VEHS_SCORE_SEEDS", 2);
+  const int first_seed = env_int("VEHS_SCORE_SEED0", 0);
+  const bool loop = env_int("VEHS_SCORE_LOOP", 1) != 0;
+  const int records = env_int("VEHS_SCORE_RECORDS", 0);
+  const char* which = std::getenv("VEHS_SCORE_CASE");
+  const std::string only = which ? std::string(which) + "," : "";
+  diagnose::ScoreSuspectOptions so;
+  if (records > 0) so.max_samples = 0.0;
+  std::map<std::string, std::map<std::string, int>> confusion;
+  for (HiddenCase hc : hidden_cases()) {
+    if (!only.empty() && only.find(hc.name + ",") == std::string::npos) continue;
+    if (records > 0) hc.records = records;
+    const bool control = hc.name.rfind("none", 0) == 0;
+    int first_significant = 0, alone = 0, claimed = 0, looped = 0, held = 0, adequate = 0, halved = 0, params = 0;
+    double ratio = 0.0, z_sum = 0.0, oracle_sum = 0.0;
+    for (int k = first_seed; k < first_seed + seeds; ++k) {
+      const Dataset d = hidden_data(hc, 100 + std::uint64_t(k));
+      const Outcome o = run_case(hc, d, so);
+      const double oracle = control ? 0.0 : oracle_z(hc, d);
+      const auto& top = o.report.ranked.front();
+      const bool in_group = std::find(top.not_resolved_from.begin(), top.not_resolved_from.end(), hc.name) !=
+                            top.not_resolved_from.end();
+      std::string named = top.significant ? top.effect : "(none)";
+      if (top.significant && !top.not_resolved_from.empty()) named += "+" + top.not_resolved_from.front();
+      confusion[hc.name][named]++;
+      claimed += top.significant;
+      first_significant += top.significant && (top.effect == hc.name || in_group);
+      alone += top.significant && top.effect == hc.name && top.not_resolved_from.empty();
+      double z = 0.0;
+      for (const auto& sp : o.report.ranked)
+        if (sp.effect == hc.name) z = sp.z;
+      if (!control) ratio += z / oracle, z_sum += z, oracle_sum += oracle;
+      std::printf("%s seed %d (%.1f s): oracle z %.2f, suspect z %.2f, named %s%s\n", hc.name.c_str(), k, o.seconds,
+                  oracle, z, named.c_str(), describe(o.report).c_str());
+      if (loop && !control && top.significant) {
+        const LoopCheck lc = run_loop(hc, d, o, 100 + std::uint64_t(k));
+        looped += 1, held += lc.all(), adequate += lc.adequate, halved += lc.halved, params += lc.params;
+        std::printf("   LOOP %s: %s\n", lc.all() ? "holds" : "fails", lc.text.c_str());
+      }
+      std::fflush(stdout);
+    }
+    std::printf("SUMMARY %s (%d records): first and significant %d of %d (alone %d), any claim %d, mean z %.2f, "
+                "mean oracle z %.2f, mean z/oracle %.2f",
+                hc.name.c_str(), hc.records, first_significant, seeds, alone, claimed, z_sum / seeds, oracle_sum / seeds,
+                ratio / seeds);
+    if (loop && !control)
+      std::printf("; loop holds %d of %d (adequate %d, score halved %d, parameters %d)", held, looped, adequate, halved,
+                  params);
+    std::printf("\n");
+    std::fflush(stdout);
+  }
+  std::printf("CONFUSION (hidden -> named first and significant):\n");
+  for (const auto& [hidden, row] : confusion) {
+    std::printf("  %-28s", hidden.c_str());
+    for (const auto& [named, n] : row) std::printf(" %s:%d", named.c_str(), n);
+    std::printf("\n");
+  }
+}
