@@ -143,6 +143,12 @@ TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusio
       } catch (const std::exception& e) {
         oracle_failure = e.what();
       }
+      if (o.report.ranked.empty()) {  // the filter could not take the baseline: nothing tested
+        confusion[hc.name]["(untested)"]++;
+        std::printf("%s seed %d: no suspect tested: %s%s\n", hc.name.c_str(), k, o.report.note.c_str(),
+                    describe(o.report).c_str());
+        continue;
+      }
       const auto& top = o.report.ranked.front();
       const bool in_group = std::find(top.not_resolved_from.begin(), top.not_resolved_from.end(), hc.name) !=
                             top.not_resolved_from.end();
