@@ -17,6 +17,7 @@
 #include "vehs/core/error.hpp"
 #include "vehs/diagnose/distributions.hpp"
 #include "vehs/likelihood/filter.hpp"
+#include "vehs/likelihood/refine.hpp"
 #include "vehs/likelihood/score_test.hpp"
 
 namespace vehs::diagnose {
@@ -107,48 +108,26 @@ struct Context {
   Dataset pilot;  ///< the leading quarter of the records, where the scans choose (empty: all data)
 };
 
-/// The log p of the coefficients `a` of a joint score test with the coefficients `b` free too
-/// (projected out like the model's own): s_a|b = s_a − V_ab V_bb⁻¹ s_b, V_a|b = V_aa − V_ab V_bb⁻¹ V_ba.
-/// One coefficient with a sign (`sign` ≠ 0: the effect's parameter is sign × the coefficient, ≥ 0):
-/// one-sided normal; else χ² with rank(V_a|b) degrees of freedom.
-double partial_log_p(const likelihood::ScoreTestResult& joint, const std::vector<int>& a, const std::vector<int>& b,
-                     double sign) {
-  auto sub = [&](const std::vector<int>& r, const std::vector<int>& k) {
-    Eigen::MatrixXd m(r.size(), k.size());
-    for (std::size_t i = 0; i < r.size(); ++i)
-      for (std::size_t j = 0; j < k.size(); ++j) m(Eigen::Index(i), Eigen::Index(j)) = joint.efficient_information(r[i], k[j]);
-    return m;
-  };
-  auto vec = [&](const std::vector<int>& r) {
-    Eigen::VectorXd v(r.size());
-    for (std::size_t i = 0; i < r.size(); ++i) v(Eigen::Index(i)) = joint.efficient_score(r[i]);
-    return v;
-  };
-  const Eigen::MatrixXd Vbb_inv = sub(b, b).completeOrthogonalDecomposition().pseudoInverse();
-  const Eigen::MatrixXd Vab = sub(a, b);
-  const Eigen::VectorXd s = vec(a) - Vab * Vbb_inv * vec(b);
-  const Eigen::MatrixXd V = sub(a, a) - Vab * Vbb_inv * Vab.transpose();
-  if (a.size() == 1 && sign != 0.0) return V(0, 0) > 0.0 ? log_normal_sf(sign * s(0) / std::sqrt(V(0, 0))) : 0.0;
-  const auto cod = V.completeOrthogonalDecomposition();
-  const double stat = s.dot(cod.pseudoInverse() * s);
-  return cod.rank() > 0 ? log_chi2_sf(stat, double(cod.rank())) : 0.0;
-}
-
-/// Look-alike effects (y·|y| and y³ damping: over a Gaussian-like velocity their efficient scores
-/// correlate ≈ 0.97 once the linear damping is projected out): each one's coefficient tested
-/// with the other's free, from the same filter pass (one degree of freedom each: a fair
-/// comparison). Their marginal tests name both; the partial tests say which one the data prefer
-/// (suspect name → partial log p).
-using PartialEvidence = std::map<std::string, double>;
+/// The look-alike damping forms y·|y| (quadratic_damping) and y³ (nonlinear_damping): over a
+/// Gaussian-like velocity their efficient scores correlate ≈ 0.97 once the linear damping is
+/// projected out, so both are named with nearly equal z. Each one's drift term, its likelihood
+/// parameter name, the sign of the effect's parameter (≥ 0) in the coefficient and the score's
+/// one-step estimate of the coefficient (the start of its refit).
+struct LookAlike {
+  std::string effect, param;
+  Term term;
+  double sign = 1.0, coefficient = 0.0;
+};
 
 /// Term-like effects: their coefficients at 0 in the drift / diffusion, all from one filter pass
 /// (each tested against the model's own terms, the other candidates held at 0).
 std::vector<ScoreSuspect> term_effects(const Context& c, const std::vector<EffectId>& ids,
                                        std::vector<std::pair<std::string, std::string>>& untested,
-                                       PartialEvidence& partial) {
+                                       std::vector<LookAlike>& look_alikes) {
   struct Slot {
     std::string param, name;
     double sign;
+    Term term;
   };
   Model m = c.model;
   std::vector<std::vector<Slot>> slots;
@@ -164,7 +143,7 @@ std::vector<ScoreSuspect> term_effects(const Context& c, const std::vector<Effec
       if (coefficient(list, tc.term) != 0.0) continue;  // already in the model
       list.push_back({tc.term, kTiny * tc.coef});
       mine.push_back({std::string(ps.name), std::string(drift ? "drift[" : "diffusion[") + tc.term.name() + "]",
-                      tc.coef});
+                      tc.coef, tc.term});
     }
     if (mine.empty()) {
       untested.emplace_back(std::string(effect_spec(id).name), "its terms are already in the model");
@@ -182,23 +161,8 @@ std::vector<ScoreSuspect> term_effects(const Context& c, const std::vector<Effec
     groups.emplace_back();
     for (const auto& sl : g) groups.back().push_back(sl.name);
   }
-  // the look-alike pair, y·|y| and y³, jointly (an extra group of the same pass; nonlinear_damping's
-  // x²y is not part of the comparison: either way its coefficient is 0)
-  const auto pos = [&](EffectId id) { return std::size_t(std::find(tested_ids.begin(), tested_ids.end(), id) - tested_ids.begin()); };
-  const std::size_t kq = pos(EffectId::QuadraticDamping), kn = pos(EffectId::NonlinearDamping);
-  const Slot* q_slot = kq < slots.size() && slots[kq].size() == 1 ? &slots[kq][0] : nullptr;
-  const Slot* n_slot = nullptr;
-  if (kn < slots.size())
-    for (const Slot& sl : slots[kn])
-      if (sl.name == "drift[y^3]") n_slot = &sl;
-  if (q_slot && n_slot) groups.push_back({q_slot->name, n_slot->name});
   likelihood::ObservedModel om{m, c.measurement_sd, {}};
   const std::vector<likelihood::ScoreTestResult> rs = likelihood::score_tests(om, c.data, groups, c.test_options);
-  if (q_slot && n_slot) {
-    const auto& joint = rs.back();
-    partial[std::string(effect_spec(EffectId::QuadraticDamping).name)] = partial_log_p(joint, {0}, {1}, q_slot->sign);
-    partial[std::string(effect_spec(EffectId::NonlinearDamping).name)] = partial_log_p(joint, {1}, {0}, n_slot->sign);
-  }
   for (std::size_t k = 0; k < slots.size(); ++k) {
     const EffectSpec& spec = effect_spec(tested_ids[k]);
     const likelihood::ScoreTestResult& r = rs[k];
@@ -211,6 +175,9 @@ std::vector<ScoreSuspect> term_effects(const Context& c, const std::vector<Effec
     for (std::size_t i = 0; i < sl.size(); ++i) {
       s.params[sl[i].param] = r.estimate[i] / sl[i].sign;
       s.params_stderr[sl[i].param] = r.stderrs[i];
+      const bool look_alike = (tested_ids[k] == EffectId::QuadraticDamping && sl.size() == 1) ||
+                              (tested_ids[k] == EffectId::NonlinearDamping && sl[i].name == "drift[y^3]");
+      if (look_alike) look_alikes.push_back({std::string(spec.name), sl[i].name, sl[i].term, sl[i].sign, r.estimate[i]});
     }
     const bool signed_param = sl.size() == 1 && spec.params.front().lower_bound >= 0.0;
     if (signed_param) {
@@ -351,20 +318,74 @@ std::pair<ScoreSuspect, ScoreSuspect> forcing_scans(const Context& c) {
   return {shared, local};
 }
 
-/// When both look-alikes are significant, the one the partial tests prefer takes the better of
-/// their two places (their marginal evidence is kept); each one's test says its partial p.
-void order_look_alikes(ScoreSuspectReport& rep, const PartialEvidence& partial) {
-  if (partial.size() != 2) return;
-  std::vector<std::size_t> at;
+/// The model plus one look-alike's drift term, refitted by the likelihood (every parameter free).
+likelihood::Result refit_with(const Context& c, const LookAlike& a) {
+  Model m = c.model;
+  m.drift.push_back({a.term, a.sign * a.coefficient > 0.0 ? a.coefficient : a.sign * 1e-3});
+  canonicalize(m.drift, "score suspects");
+  likelihood::RefineOptions o;
+  o.filter = c.test_options.filter;
+  o.estimate_measurement_noise = c.measurement_sd > 0.0;
+  o.measurement_sd_start = c.measurement_sd;
+  o.covariance = likelihood::Covariance::Fisher;
+  return likelihood::refine({m, c.measurement_sd, {}}, c.data, o);
+}
+
+/// The score z of `a`'s parameter (≥ 0) added at 0 to the refit `fit` of the other form: what
+/// `a` explains that the other form does not.
+double added_z(const Context& c, const likelihood::Result& fit, const LookAlike& a) {
+  likelihood::ObservedModel om = fit.model;
+  om.model.drift.push_back({a.term, kTiny * a.sign});
+  canonicalize(om.model.drift, "score suspects");
+  return a.sign * likelihood::score_test(om, c.data, {a.param}, c.test_options).z;
+}
+
+/// When both look-alikes are significant: the likelihood ratio of the two one-effect refits
+/// (one parameter each, so 2ΔlogL compares them fairly) says which form the data prefer, and
+/// each form is score-tested added to the other's refit. The preferred form is named alone only
+/// when it adds significantly (one-sided, level alpha) to the other's refit and the other adds
+/// nothing significant to its own; else both are named as one group, the preferred first, with
+/// the data (multiple of these samples) that would resolve them with 90 % power.
+void resolve_look_alikes(const Context& c, ScoreSuspectReport& rep, const std::vector<LookAlike>& alikes) {
+  if (alikes.size() != 2) return;
+  std::vector<std::size_t> at;  // their places in the ranking, best first
   for (std::size_t i = 0; i < rep.ranked.size(); ++i)
-    if (partial.count(rep.ranked[i].effect)) at.push_back(i);
-  if (at.size() != 2) return;
-  ScoreSuspect& first = rep.ranked[at[0]];
-  ScoreSuspect& second = rep.ranked[at[1]];
-  first.test += "; with " + second.effect + " free too: p = " + fmt(std::exp(partial.at(first.effect)), 3);
-  second.test += "; with " + first.effect + " free too: p = " + fmt(std::exp(partial.at(second.effect)), 3);
-  if (first.significant && second.significant && partial.at(second.effect) < partial.at(first.effect))
-    std::swap(first, second);
+    if (rep.ranked[i].effect == alikes[0].effect || rep.ranked[i].effect == alikes[1].effect) at.push_back(i);
+  if (at.size() != 2 || !rep.ranked[at[0]].significant || !rep.ranked[at[1]].significant) return;
+  std::string text;
+  try {
+    const likelihood::Result fit[2] = {refit_with(c, alikes[0]), refit_with(c, alikes[1])};
+    const double lr = 2.0 * (fit[0].log_likelihood - fit[1].log_likelihood);
+    const std::size_t pref = lr >= 0.0 ? 0 : 1, other = 1 - pref;
+    const double z_pref = added_z(c, fit[other], alikes[pref]), z_other = added_z(c, fit[pref], alikes[other]);
+    const double zc = normal_isf(c.options.alpha);
+    const bool resolved = z_pref > zc && !(z_other > zc);
+    const std::string& a = alikes[pref].term.name();
+    const std::string& b = alikes[other].term.name();
+    text = "; look-alikes refitted by the likelihood: 2 dlogL = " + fmt(std::abs(lr), 3) + " for " + a + " over " + b +
+           ", " + a + " added to the " + b + " refit z = " + fmt(z_pref, 3) + ", " + b + " added to the " + a +
+           " refit z = " + fmt(z_other, 3);
+    if (resolved) {
+      text += ": " + a + " resolved";
+    } else {
+      const double need = z_pref > 0.0 ? std::pow((zc + kZ90) / z_pref, 2) : std::numeric_limits<double>::infinity();
+      text += ": damping that grows faster than linear, " + a + " or " + b + ", not resolved by these data (need " +
+              (need < 1e4 ? "about " + fmt(need, 2) + "x" : "far more than 1e4x") + " the data)";
+    }
+    ScoreSuspect first = rep.ranked[at[0]].effect == alikes[pref].effect ? rep.ranked[at[0]] : rep.ranked[at[1]];
+    ScoreSuspect second = rep.ranked[at[0]].effect == alikes[pref].effect ? rep.ranked[at[1]] : rep.ranked[at[0]];
+    if (!resolved) first.not_resolved_from = {second.effect}, second.not_resolved_from = {first.effect};
+    first.test += text, second.test += text;
+    rep.ranked.erase(rep.ranked.begin() + long(at[1]));
+    rep.ranked.erase(rep.ranked.begin() + long(at[0]));
+    // the group stays together: the other form right after the preferred one
+    const std::size_t second_at = resolved ? at[1] - 1 : at[0];
+    rep.ranked.insert(rep.ranked.begin() + long(at[0]), std::move(first));
+    rep.ranked.insert(rep.ranked.begin() + long(second_at) + 1, std::move(second));
+  } catch (const std::exception& e) {
+    text = "; look-alike refits failed (" + std::string(e.what()) + "): ranked by their marginal tests";
+    rep.ranked[at[0]].test += text, rep.ranked[at[1]].test += text;
+  }
 }
 
 }  // namespace
@@ -397,7 +418,7 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
     });
   }
   std::vector<EffectId> term_ids;
-  PartialEvidence partial;
+  std::vector<LookAlike> look_alikes;
   std::vector<std::function<ScoreSuspect()>> jobs;
   std::vector<std::string> names;
   auto untested = [&](const std::string& e, const std::string& why) { rep.untested.emplace_back(e, why); };
@@ -443,7 +464,7 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
     if (!term_ids.empty()) {
       try {
         const auto t0 = std::chrono::steady_clock::now();
-        std::vector<ScoreSuspect> terms = term_effects(c, term_ids, rep.untested, partial);
+        std::vector<ScoreSuspect> terms = term_effects(c, term_ids, rep.untested, look_alikes);
         const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         for (auto& t : terms) t.seconds = sec, rep.ranked.push_back(std::move(t));
       } catch (const std::exception& e) {
@@ -501,7 +522,7 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
     if (a.log_p != b.log_p) return a.log_p < b.log_p;
     return a.statistic / a.dof > b.statistic / b.dof;
   });
-  order_look_alikes(rep, partial);
+  resolve_look_alikes(c, rep, look_alikes);
   return rep;
 }
 

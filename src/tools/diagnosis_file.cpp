@@ -61,6 +61,7 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
     e["null_claim_rate"] = num(s.null_claim_rate);
     e["power"] = num(s.power);
     if (!s.detectable.empty()) e["detectable"] = s.detectable;
+    if (!s.not_resolved_from.empty()) e["not_resolved_from"] = s.not_resolved_from;
     score.push_back(e);
   }
   j["score_suspects"] = score;

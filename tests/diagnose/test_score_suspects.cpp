@@ -4,10 +4,7 @@
 // table (μ = 0.03, c = 0.3, τ = 0.6, forcing with a random phase per record, …) that the code
 // under test never sees (score_fixtures.hpp). The baseline is the potential's own terms fitted by
 // identify. The oracle is the likelihood refitted WITH the hidden effect from the truth.
-//
-// The full study (every case, ≥ 10 seeds, oracle z beside the suspect's z, the confusion matrix):
-//   VEHS_SCORE_SEEDS=10 build/tests/test_diagnose "[.score_study]"      (data/diagnose/README.md)
-// (VEHS_SCORE_CASE=a,b: only these cases; VEHS_SCORE_SEED0=k: seeds k … k + SEEDS − 1)
+// The full study over seeds: test_score_study.cpp.
 #include <catch2/catch.hpp>
 
 #include <chrono>
@@ -28,65 +25,11 @@
 
 #include "diagnose_fixtures.hpp"
 #include "score_fixtures.hpp"
+#include "score_runs.hpp"
 
 using namespace vehs;
 using namespace vehs_test;
 using namespace score_test;
-
-namespace {
-
-std::string describe(const diagnose::ScoreSuspectReport& r) {
-  std::string s = r.note;
-  for (const auto& sp : r.ranked) {
-    char buf[256];
-    std::snprintf(buf, sizeof buf, "\n   %s: stat %.3g p %.3g z %.2f power %.2f (%.1f s)", sp.effect.c_str(),
-                  sp.statistic, sp.p_value, sp.z, sp.power, sp.seconds);
-    s += buf;
-    if (const auto at = sp.test.find("; with "); at != std::string::npos) s += " [" + sp.test.substr(at + 2) + "]";
-    for (const auto& [k, v] : sp.params) {
-      auto it = sp.params_stderr.find(k);
-      s += " " + k + "=" + std::to_string(v) + (it != sp.params_stderr.end() ? "±" + std::to_string(it->second) : "");
-    }
-  }
-  for (const auto& [e, why] : r.untested) s += "\n   untested " + e + ": " + why;
-  return s;
-}
-
-/// The oracle: the z of the hidden effect's parameter when the likelihood is given the effect
-/// (refined from the truth on all the data).
-double oracle_z(const HiddenCase& hc, const Dataset& d) {
-  likelihood::ObservedModel start{truth_of(hc), 0.0, {}};
-  likelihood::RefineOptions o;
-  o.estimate_measurement_noise = false;
-  o.per_record_phase = hc.phase_per_record;
-  const likelihood::Result r = likelihood::refine(start, d, o);
-  const int i = r.find(oracle_parameter(hc));
-  if (i < 0) throw Error("oracle: no parameter " + oracle_parameter(hc));
-  return std::abs(r.values[std::size_t(i)] / r.stderrs[std::size_t(i)]);
-}
-
-struct Outcome {
-  diagnose::ScoreSuspectReport report;
-  double seconds = 0.0;
-};
-
-Outcome run_case(const HiddenCase& hc, const Dataset& d) {
-  const Model base = identify::identify(d, baseline_options_for(hc)).model;
-  const auto t0 = std::chrono::steady_clock::now();
-  Outcome o;
-  o.report = diagnose::score_suspects(base, d, 0.0, diagnose::ScoreSuspectOptions{});
-  o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return o;
-}
-
-const HiddenCase& case_named(const std::string& name) {
-  static const std::vector<HiddenCase> all = hidden_cases();
-  for (const auto& c : all)
-    if (c.name == name) return c;
-  throw Error("no hidden case " + name);
-}
-
-}  // namespace
 
 /// The CI size: 16 records × 2500 samples (the study: 32 × 4000).
 HiddenCase ci_size(HiddenCase c) {
@@ -147,45 +90,6 @@ TEST_CASE("score suspects: a hidden effect is named first and significant, z nea
       tally(name + " z over oracle z", o.report.ranked.front().z / oracle);
       CHECK(o.report.ranked.front().z >= 0.7 * oracle);
     }
-  }
-}
-
-TEST_CASE("score suspects: study over seeds, oracle z and the confusion matrix (bench)", "[.score_study]") {
-  const int seeds = std::getenv("VEHS_SCORE_SEEDS") ? std::atoi(std::getenv("VEHS_SCORE_SEEDS")) : 2;
-  const int first_seed = std::getenv("VEHS_SCORE_SEED0") ? std::atoi(std::getenv("VEHS_SCORE_SEED0")) : 0;
-  const char* which = std::getenv("VEHS_SCORE_CASE");
-  const std::string only = which ? std::string(which) + "," : "";
-  std::map<std::string, std::map<std::string, int>> confusion;
-  for (const HiddenCase& hc : hidden_cases()) {
-    if (!only.empty() && only.find(hc.name + ",") == std::string::npos) continue;
-    int first_significant = 0, claimed = 0;
-    double ratio = 0.0;
-    for (int k = first_seed; k < first_seed + seeds; ++k) {
-      const Dataset d = hidden_data(hc, 100 + std::uint64_t(k));
-      const Outcome o = run_case(hc, d);
-      const bool control = hc.name.rfind("none", 0) == 0;
-      const double oracle = control ? 0.0 : oracle_z(hc, d);
-      const auto& top = o.report.ranked.front();
-      confusion[hc.name][top.significant ? top.effect : "(none)"]++;
-      claimed += top.significant;
-      first_significant += top.significant && top.effect == hc.name;
-      double z = 0.0;
-      for (const auto& sp : o.report.ranked)
-        if (sp.effect == hc.name) z = sp.z;
-      if (!control) ratio += z / oracle;
-      std::printf("%s seed %d (%.1f s): oracle z %.2f, suspect z %.2f%s\n", hc.name.c_str(), k, o.seconds, oracle, z,
-                  describe(o.report).c_str());
-      std::fflush(stdout);
-    }
-    std::printf("SUMMARY %s: first and significant %d of %d, any claim %d, mean z/oracle %.2f\n", hc.name.c_str(),
-                first_significant, seeds, claimed, ratio / seeds);
-    std::fflush(stdout);
-  }
-  std::printf("CONFUSION (hidden -> named first and significant):\n");
-  for (const auto& [hidden, row] : confusion) {
-    std::printf("  %-28s", hidden.c_str());
-    for (const auto& [named, n] : row) std::printf(" %s:%d", named.c_str(), n);
-    std::printf("\n");
   }
 }
 

@@ -9,9 +9,13 @@
 //    coefficients at 0, the model's own parameters projected out. One coefficient with a sign
 //    (μ, c, q ≥ 0): one-sided z; several: χ² with their number of degrees of freedom. The
 //    look-alikes quadratic_damping (y·|y|) and nonlinear_damping (its y³), whose scores correlate
-//    ≈ 0.97 over a Gaussian-like velocity, are also tested each with the other's coefficient
-//    free (one-sided, a joint group of the same pass); when both are significant, the one this
-//    partial test prefers is ranked ahead of the other (each one's `test` gives its partial p).
+//    ≈ 0.97 over a Gaussian-like velocity, are named with nearly equal z; when both are
+//    significant, the model plus each one is refitted by the likelihood (vehs/likelihood/refine)
+//    and the likelihood ratio of the two refits (one parameter each) ranks them. The preferred
+//    form is named alone only when it adds significantly (one-sided, level alpha) to the other's
+//    refit and the other adds nothing significant to its own; else the two are one group
+//    ("damping that grows faster than linear", `not_resolved_from`), the preferred first, with
+//    the multiple of the data that would resolve them with 90 % power (in each one's `test`).
 //  * effects whose other parameters vanish under the null — impact_stop (gap),
 //    electromechanical_coupling (λ), colored_noise (τ): the score test of k_stop, coupling,
 //    intensity at 0 on a grid of the vanishing parameter (quantiles of |x|; multiples of the
@@ -70,6 +74,9 @@ struct ScoreSuspect {
   double power = 0.0;           ///< probability of a claim under the fitted alternative
   std::string detectable;       ///< "mu >= 0.012" (90 % power), empty when not defined
   double seconds = 0.0;         ///< wall time of its filter passes
+  /// Look-alike effects these data do not tell apart from this one (named with it as one group;
+  /// empty: none significant, or resolved — see `test`).
+  std::vector<std::string> not_resolved_from;
 };
 
 struct ScoreSuspectReport {
