@@ -11,6 +11,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "vehs/core/error.hpp"
+#include "vehs/likelihood/detail/domain.hpp"
 #include "vehs/likelihood/detail/evaluator.hpp"
 #include "vehs/likelihood/detail/selection.hpp"
 
@@ -450,8 +451,10 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
   }
   repair_start(first, data, options.filter);
   if (options.per_record_phase) scan_record_phases(first, data, options, choice);
-  if (!options.select) return detail::fit_support(first, data, options, choice, true);
-  return detail::select_support(first, data, options, choice);
+  Result res = options.select ? detail::select_support(first, data, options, choice)
+                              : detail::fit_support(first, data, options, choice, true);
+  detail::respect_domain(res);
+  return res;
 }
 
 }  // namespace vehs::likelihood

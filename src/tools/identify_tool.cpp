@@ -431,6 +431,10 @@ int run_identify(Config& c, const AppOptions& app) {
   sections["data"] = ds;
   sections["provenance"] = {{"tool", "identify-vehs"}, {"library", library_version()}, {"config", c.json()}};
   validate_model(r.model, output);
+  for (const Effect& e : r.model.effects)  // what simulate-vehs refuses to read, never written
+    if (const std::string why = effect_domain_violation(e); !why.empty())
+      throw Error("identify: the fit puts " + why + ": the data do not support " + e.name() +
+                  " as the catalogue defines it; " + output + " not written");
   std::string figure;
   if (c.has("figures")) {
     figure = identify_figure(c.string("figures"), r.model, data, units);
