@@ -66,7 +66,7 @@ double smallest_p(const Result& res) {
 
 void confirm_suspects(const Model& model, const Dataset& data, const Options& opt, Result& res, Stopwatch& watch) {
   try {
-    res.confirmation = confirm_effects(model, data, res.lens, significant_suspects(res), opt.confirm);
+    res.confirmation = confirm_effects(model, data, res.lens, significant_suspects(res), res.suspects, opt.confirm);
   } catch (const std::exception& e) {
     res.confirmation.note = e.what();
   }
@@ -106,7 +106,8 @@ void conclude(Result& res, bool confirmed_by_refits) {
                                                     std::to_string(c.effects.size()) + " tried)";
   res.conclusion = std::string("inadequate — ") +
                    (huge ? "the misfit is outside the catalogue: " : "no catalogue effect explains the misfit: ") +
-                   failing_components(res) + "; " + tried + "; held-out innovations: " + c.residuals.summary;
+                   failing_components(res) + "; " + tried +
+                   (c.residuals.summary.empty() ? std::string() : "; held-out innovations: " + c.residuals.summary);
 }
 
 }  // namespace vehs::diagnose::detail

@@ -109,22 +109,26 @@ struct PieceScores {
   likelihood::FilterTrace trace;
 };
 
-PieceScores score_pieces(const Refit& m, const Dataset& held, InputInterpolation input, bool driven,
+PieceScores score_pieces(const Refit& m, const Dataset& held, InputInterpolation input, bool with_filter, bool driven,
                          std::size_t skip) {
   PieceScores s;
-  likelihood::FilterOptions fo;
-  fo.input = input;
-  std::size_t longest = 0;
-  for (const auto& r : held.records) longest = std::max(longest, r.size);
-  fo.block_samples = longest + 1;  // every piece one block, started from its first sample
-  s.trace = likelihood::filter_trace({m.model, m.measurement_sd, {}}, held, fo);
+  if (with_filter) {
+    likelihood::FilterOptions fo;
+    fo.input = input;
+    std::size_t longest = 0;
+    for (const auto& r : held.records) longest = std::max(longest, r.size);
+    fo.block_samples = longest + 1;  // every piece one block, started from its first sample
+    s.trace = likelihood::filter_trace({m.model, m.measurement_sd, {}}, held, fo);
+  }
   for (const auto& r : held.records) {
-    double ll = 0.0;
-    for (std::size_t k = r.offset + 1; k < r.offset + r.size; ++k) {
-      const double S = s.trace.predicted_var[k], e = held.x[k] - s.trace.predicted_x[k];
-      ll += -0.5 * (std::log(2.0 * M_PI * S) + e * e / S);
+    if (with_filter) {
+      double ll = 0.0;
+      for (std::size_t k = r.offset + 1; k < r.offset + r.size; ++k) {
+        const double S = s.trace.predicted_var[k], e = held.x[k] - s.trace.predicted_x[k];
+        ll += -0.5 * (std::log(2.0 * M_PI * S) + e * e / S);
+      }
+      s.loglik.push_back(ll);
     }
-    s.loglik.push_back(ll);
     if (!driven) continue;
     const std::vector<double> x(held.x.begin() + long(r.offset), held.x.begin() + long(r.offset + r.size));
     const std::vector<double> u(held.u.begin() + long(r.offset), held.u.begin() + long(r.offset + r.size));
@@ -151,10 +155,19 @@ std::vector<double> difference(const std::vector<double>& a, const std::vector<d
   return d;
 }
 
-void judge(Confirmation& c, const PieceScores& base, const PieceScores& with, bool driven, double z_threshold) {
-  const std::vector<double> gain = difference(with.loglik, base.loglik);
-  c.loglik_gain = total(gain);
-  c.loglik_z = block_z(gain);
+/// The one-step criterion from the filter's held-out log-likelihood, else (`heldout`: a model
+/// not fitted by likelihood) from the held-out suspect's drift contrast (suspects.hpp), which
+/// refitted the effect by identify on the same training share.
+void judge(Confirmation& c, const PieceScores& base, const PieceScores& with, const Suspect* heldout, bool driven,
+           double z_threshold) {
+  if (heldout) {
+    c.loglik_gain = heldout->evidence;
+    c.loglik_z = heldout->z;
+  } else {
+    const std::vector<double> gain = difference(with.loglik, base.loglik);
+    c.loglik_gain = total(gain);
+    c.loglik_z = block_z(gain);
+  }
   const bool likelihood_ok = c.loglik_gain > 0.0 && c.loglik_z > z_threshold;
   bool run_ok = true;
   if (driven) {
@@ -165,7 +178,7 @@ void judge(Confirmation& c, const PieceScores& base, const PieceScores& with, bo
     run_ok = c.rmse_effect < c.rmse_baseline && c.rmse_z > z_threshold;
   }
   c.confirmed = likelihood_ok && run_ok;
-  std::string why = "held-out one-step log-likelihood " + std::string(c.loglik_gain >= 0 ? "+" : "") +
+  std::string why = std::string(heldout ? "held-out drift contrast " : "held-out one-step log-likelihood ") + std::string(c.loglik_gain >= 0 ? "+" : "") +
                     fmt(c.loglik_gain) + " nats (z " + fmt(c.loglik_z) + ")";
   if (driven)
     why += ", free-run RMSE " + fmt(c.rmse_baseline) + " -> " + fmt(c.rmse_effect) + " (z of the drop " + fmt(c.rmse_z) + ")";
@@ -183,7 +196,8 @@ void fill_params(Confirmation& c, const Model& m, EffectId id) {
 }  // namespace
 
 ConfirmationReport confirm_effects(const Model& model, const Dataset& data, const Lens& lens,
-                                   const std::vector<Candidate>& candidates, const ConfirmationOptions& o) {
+                                   const std::vector<Candidate>& candidates, const SuspectReport& heldout,
+                                   const ConfirmationOptions& o) {
   if (auto why = o.invalid_reason(); !why.empty()) throw Error(why);
   const auto t0 = std::chrono::steady_clock::now();
   ConfirmationReport rep;
@@ -196,35 +210,54 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
   const InputInterpolation input = model.fit ? model.fit->input : InputInterpolation::ZeroOrderHold;
   rep.criterion = std::string("refits on the first ") + fmt(100.0 * (1.0 - o.holdout), 3) +
                   " % of every record (identify" + (likelihood_fit ? " + maximum likelihood" : "") +
-                  ", as the model was fitted), judged on " + std::to_string(rep.pieces) +
-                  " held-out pieces: one-step log-likelihood" + (rep.driven ? " and free-run RMSE" : "") +
-                  " must improve by > " + fmt(o.z_threshold) + " paired standard errors";
+                  ", as the model was fitted), judged on the rest: " +
+                  (likelihood_fit ? "the filter's one-step log-likelihood on " + std::to_string(rep.pieces) + " pieces"
+                                  : std::string("the held-out suspects' one-step drift contrast")) +
+                  (rep.driven ? " and the free-run RMSE on " + std::to_string(rep.pieces) + " pieces" : std::string()) +
+                  " must improve by > " + fmt(o.z_threshold) + " standard errors";
+  auto heldout_of = [&](EffectId id) -> const Suspect* {
+    for (const Suspect& sp : heldout.ranked)
+      if (sp.effect == enum_to_string(kEffectNames, id) && std::isfinite(sp.z)) return &sp;
+    return nullptr;
+  };
   if (rep.pieces < 3) {
     rep.note = "too few held-out samples for " + std::to_string(o.blocks) + " pieces of " + std::to_string(kMinPiece);
     return rep;
   }
   PieceScores base;
   try {
-    const Refit b = refit_on(model, lens, split.train, nullptr);
-    base = score_pieces(b, split.held, input, rep.driven, o.free_run_skip);
+    if (likelihood_fit || rep.driven)
+      base = score_pieces(refit_on(model, lens, split.train, nullptr), split.held, input, likelihood_fit, rep.driven,
+                          o.free_run_skip);
   } catch (const std::exception& e) {
     rep.note = std::string("the baseline refit on the training part failed: ") + e.what();
     return rep;
   }
   rep.ran = true;
-  rep.baseline_loglik = total(base.loglik);
+  rep.baseline_loglik = likelihood_fit ? total(base.loglik) : Confirmation::kNaN;
   rep.baseline_rmse = mean_rmse(base.sq_error);
-  rep.residuals = residual_signature(split.held, base.trace, lens.dt);
+  // the filter's innovations describe the misfit of a model fitted by the likelihood (a moment
+  // fit to scheme-consistent data is not the continuous-time model the filter assumes)
+  if (likelihood_fit) rep.residuals = residual_signature(split.held, base.trace, lens.dt);
   for (const Candidate& cand : candidates) {
     if (static_cast<int>(rep.effects.size()) >= o.max_effects) break;
     Confirmation c;
     c.effect = enum_to_string(kEffectNames, cand.id);
     c.evidence = cand.evidence;
     try {
-      const Effect added{cand.id, {}, {}};
-      const Refit r = refit_on(model, lens, split.train, &added);
-      fill_params(c, r.model, cand.id);
-      judge(c, base, score_pieces(r, split.held, input, rep.driven, o.free_run_skip), rep.driven, o.z_threshold);
+      const Suspect* h = likelihood_fit ? nullptr : heldout_of(cand.id);
+      if (!likelihood_fit && !h) throw Error("no held-out evidence (the held-out suspects did not test it)");
+      PieceScores with;
+      if (likelihood_fit || rep.driven) {
+        const Effect added{cand.id, {}, {}};
+        const Refit r = refit_on(model, lens, split.train, &added);
+        fill_params(c, r.model, cand.id);
+        with = score_pieces(r, split.held, input, likelihood_fit, rep.driven, o.free_run_skip);
+      } else {
+        c.params = h->params;
+        c.params_stderr = h->params_stderr;
+      }
+      judge(c, base, with, h, rep.driven, o.z_threshold);
     } catch (const std::exception& e) {
       c.error = e.what();
       c.reason = std::string("not confirmed: the refit failed: ") + e.what();

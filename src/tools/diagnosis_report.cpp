@@ -93,8 +93,9 @@ std::string next_step(const diagnose::Result& r) {
              "); see 'Confirmation by held-out refits'.";
     std::string names;
     for (const auto& e : r.recommended) names += (names.empty() ? "" : ", ") + e;
-    return "Next step: add " + names + " to the identify-vehs config (\"effects\": [\"" + r.recommended.front() +
-           "\"]; confirmed by held-out refits) and identify again.";
+    return "Next step: add " + names + " to the model's own terms and identify again (\"effects\": [\"" +
+           r.recommended.front() + "\"] with the model's terms as the libraries and no re-selection: the refit that "
+           "confirmed it on held-out data).";
   }
   for (const auto& sp : r.suspects.ranked)
     if (sp.significant)

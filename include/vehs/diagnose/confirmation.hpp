@@ -18,9 +18,13 @@
 //    when the model file says the model was refined by maximum likelihood (Model::fit's
 //    likelihood section), vehs::likelihood::refine with the same input interpolation and
 //    measurement noise, the support fixed (no selection).
-//  * criteria on the held-out pieces: (a) the one-step log-likelihood of the continuous–
-//    discrete filter (vehs/likelihood/filter.hpp; each piece a block started from its first
-//    sample), and, for a driven model (a drive term u), (b) the free-run mean squared error of
+//  * criteria on the held-out pieces: (a) for a model fitted by maximum likelihood, the
+//    one-step log-likelihood of the continuous–discrete filter (vehs/likelihood/filter.hpp; each
+//    piece a block started from its first sample); for a moment fit, the held-out suspects'
+//    drift contrast (suspects.hpp: identify refits on the same training share, scored through
+//    the lens — the filter assumes a continuous-time model, which a moment fit to
+//    scheme-consistent data is not: on such data its innovations had variance 1.75 and lag-1
+//    correlation −0.27); and, for a driven model (a drive term u), (b) the free-run mean squared error of
 //    x (vehs/likelihood/free_run.hpp; started from each piece's measured state, the first
 //    `free_run_skip` samples left out). The gain of the refit with the effect over the refitted
 //    baseline is paired piece by piece; z = its mean over the pieces / the standard error from
@@ -28,8 +32,9 @@
 //    standard errors. A refit that fails (an estimate outside the catalogue's domain, a filter
 //    or free run that diverges) is not confirmed, with the reason.
 //
-// The baseline's held-out innovations (the filter's standardised prediction errors) also say
-// what the misfit looks like when no catalogue effect explains it (ResidualSignature).
+// For a model fitted by maximum likelihood, the baseline's held-out innovations (the filter's
+// standardised prediction errors) also say what the misfit looks like when no catalogue effect
+// explains it (ResidualSignature; empty for a moment fit).
 #include <cstddef>
 #include <limits>
 #include <map>
@@ -40,6 +45,7 @@
 #include "vehs/core/dataset.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/diagnose/lens.hpp"
+#include "vehs/diagnose/suspects.hpp"
 
 namespace vehs::diagnose {
 
@@ -109,6 +115,7 @@ struct Candidate {
 /// Refits and judges the candidates (see the header comment). Errors of single refits go to
 /// the candidate's `error`; a baseline that cannot be refitted or evaluated goes to `note`.
 ConfirmationReport confirm_effects(const Model& model, const Dataset& data, const Lens& lens,
-                                   const std::vector<Candidate>& candidates, const ConfirmationOptions& options);
+                                   const std::vector<Candidate>& candidates, const SuspectReport& heldout,
+                                   const ConfirmationOptions& options);
 
 }  // namespace vehs::diagnose
