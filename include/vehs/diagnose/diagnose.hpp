@@ -38,6 +38,11 @@
 //     component's p-value is below alpha/(number of components) (Bonferroni, family-wise alpha).
 //  5. Suspects (suspects.hpp): every catalogue effect not yet in the model is fitted on the first
 //     part of every record and scored on the held-out rest.
+//  6. Confirmation (confirmation.hpp, Options::confirm): for an inadequate model every
+//     significant suspect is refitted the way the model was fitted and must predict held-out
+//     pieces of the records better before it is recommended (Result::recommended); when none
+//     is, Result::conclusion says what fails and what the held-out innovations show — "the
+//     misfit is outside the catalogue" when the model fails far beyond the threshold.
 //
 // Units: time in the units of the records' t column; x as recorded; v̂ in x per time unit.
 // Memory: the data, one twin replicate at a time, and O(units × bins) statistics.
