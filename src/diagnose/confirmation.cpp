@@ -252,6 +252,10 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
         const Effect added{cand.id, {}, {}};
         const Refit r = refit_on(model, lens, split.train, &added);
         fill_params(c, r.model, cand.id);
+        // a term-like effect is stored as terms, so no file refuses e.g. a negative friction:
+        // the recommendation must still be the catalogue's effect
+        if (const std::string why = effect_domain_violation(Effect{cand.id, c.params, {}}); !why.empty())
+          throw Error("the refit puts " + why);
         with = score_pieces(r, split.held, input, likelihood_fit, rep.driven, o.free_run_skip);
       } else {
         c.params = h->params;
