@@ -252,15 +252,16 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
         const Effect added{cand.id, {}, {}};
         const Refit r = refit_on(model, lens, split.train, &added);
         fill_params(c, r.model, cand.id);
-        // a term-like effect is stored as terms, so no file refuses e.g. a negative friction:
-        // the recommendation must still be the catalogue's effect
-        if (const std::string why = effect_domain_violation(Effect{cand.id, c.params, {}}); !why.empty())
-          throw Error("the refit puts " + why);
         with = score_pieces(r, split.held, input, likelihood_fit, rep.driven, o.free_run_skip);
       } else {
         c.params = h->params;
         c.params_stderr = h->params_stderr;
       }
+      // a term-like effect is stored as terms, so no file refuses e.g. a negative friction:
+      // a recommendation must still be the catalogue's effect (Silverbox, second round:
+      // coulomb_friction refitted with mu = −8.4)
+      if (const std::string why = effect_domain_violation(Effect{cand.id, c.params, {}}); !why.empty())
+        throw Error("the refit puts " + why);
       judge(c, base, with, h, rep.driven, o.z_threshold);
     } catch (const std::exception& e) {
       c.error = e.what();
