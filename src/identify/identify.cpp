@@ -28,9 +28,11 @@ SamplingRule sampling_rule(double rho_k, double rho_2k, double rho_3k, double ro
     // (inverse ∝ [[2, −1], [−1, 2]]); information aᵀΣ⁻¹a = (7/18)·rows
     const double a1 = -2.0 / 3.0, a2 = 1.0 / 6.0, d1 = rho_k - rho_3k, d2 = rho_2k - rho_3k;
     const double info = (2 * a1 * a1 - 2 * a1 * a2 + 2 * a2 * a2) / 3.0;  // per row
-    const double eta_s = (2 * a1 * d1 - a1 * d2 - a2 * d1 + 2 * a2 * d2) / 3.0 / info;
-    r.noise_share = std::clamp(eta_s, 0.0, 1.0);
-    r.noisy = r.noise_share > std::max(0.05, 3.0 / std::sqrt(info * std::max(rows, 1.0)));
+    // both readings must find the noise: lag k confirms (or refutes) a lag-2k excess, but it
+    // never adds noise on its own (coarsely sampled dynamics also push lag k below 0)
+    const double eta_s = std::clamp((2 * a1 * d1 - a1 * d2 - a2 * d1 + 2 * a2 * d2) / 3.0 / info, 0.0, 1.0);
+    r.noisy = r.noisy && eta_s > std::max(0.05, 3.0 / std::sqrt(info * std::max(rows, 1.0)));
+    r.noise_share = r.noisy ? eta_s : std::min(r.noise_share, eta_s);
   }
   r.verdict = r.noisy        ? SamplingVerdict::Noisy
               : r.continuous ? SamplingVerdict::ContinuousTime
