@@ -154,6 +154,18 @@ std::string unknown_parameter(EffectId id, const std::string& key) {
   return ": effect '" + std::string(spec.name) + "' has no parameter '" + key + "' (its parameters: " + names + ")";
 }
 
+namespace {
+bool outside_domain(const EffectParamSpec& ps, double v) {
+  return v < ps.lower_bound || (ps.strictly_positive && v <= 0.0);
+}
+std::string domain_text(const EffectParamSpec& ps) {
+  if (ps.strictly_positive) return "> 0";
+  std::ostringstream os;
+  os << ">= " << ps.lower_bound;
+  return os.str();
+}
+}  // namespace
+
 std::string complete_effect(Effect& e, bool require_params) {
   const EffectSpec& spec = effect_spec(e.id);
   const std::string name = e.name();
@@ -175,10 +187,19 @@ std::string complete_effect(Effect& e, bool require_params) {
       continue;
     }
     const double v = it->second;
-    if (v < ps.lower_bound || (ps.strictly_positive && v <= 0.0))
-      return ".params." + key + " must be " +
-             (ps.strictly_positive ? "> 0" : ">= " + std::to_string(ps.lower_bound)) + " (got " +
-             std::to_string(v) + ")";
+    if (outside_domain(ps, v))
+      return ".params." + key + " must be " + domain_text(ps) + " (got " + std::to_string(v) + ")";
+  }
+  return "";
+}
+
+std::string effect_domain_violation(const Effect& e) {
+  for (const auto& ps : effect_spec(e.id).params) {
+    auto it = e.params.find(std::string(ps.name));
+    if (it == e.params.end() || !outside_domain(ps, it->second)) continue;
+    std::ostringstream os;
+    os << e.name() << "." << ps.name << " = " << it->second << " is outside its domain (" << domain_text(ps) << ")";
+    return os.str();
   }
   return "";
 }

@@ -157,4 +157,12 @@ void finish_verdict(Result& res, double alpha);
 void confirm_contenders(const Model& model, const Dataset& data, const Lens& lens, const Options& opt,
                         SuspectReport& rep);
 
+/// The confirmation of the significant suspects by held-out refits (confirmation.hpp) into
+/// res.confirmation; for an inadequate model with Options::confirm enabled.
+void confirm_suspects(const Model& model, const Dataset& data, const Options& opt, Result& res, Stopwatch& watch);
+
+/// res.recommended, res.outside_catalogue and res.conclusion from the verdict, the suspects and
+/// the confirmation.
+void conclude(Result& res, bool confirmed_by_refits);
+
 }  // namespace vehs::diagnose::detail

@@ -28,6 +28,7 @@ std::string Options::invalid_reason() const {
   if (parameter_draws < 2 || parameter_draws > 200) return "parameter_draws must be in [2, 200]";
   if (!(parameter_fit_samples >= 1e4)) return "parameter_fit_samples must be >= 10000";
   if (auto why = score_suspects.invalid_reason(); !why.empty()) return why;
+  if (auto why = confirm.invalid_reason(); !why.empty()) return why;
   return suspects.invalid_reason();
 }
 
@@ -100,6 +101,9 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
   }
   // a suspect is only claimed when the model is found inadequate
   for (auto& sp : res.suspects.ranked) sp.significant = sp.held_out_significant && bad;
+  const bool refits = bad && opt.confirm.enabled;
+  if (refits) detail::confirm_suspects(model, data, opt, res, watch);
+  detail::conclude(res, refits);
   res.timings.emplace_back("total", watch.total_seconds());
   return res;
 }

@@ -23,6 +23,17 @@ SamplingRule sampling_rule(double rho_k, double rho_2k, double rho_3k, double ro
   r.noisy = r.noise_share > std::max(0.05, 3.0 * se);
   const double eta = r.noisy ? r.noise_share : 0.0;
   r.continuous = (rho_k - rho_3k) + (2.0 / 3.0) * eta > (1.0 - eta) / 8.0;
+  if (!r.continuous) {
+    // scheme-consistent: GLS of (d_k, d_2k) = (−2/3, 1/6)·η, covariance [[2, 1], [1, 2]]/rows
+    // (inverse ∝ [[2, −1], [−1, 2]]); information aᵀΣ⁻¹a = (7/18)·rows
+    const double a1 = -2.0 / 3.0, a2 = 1.0 / 6.0, d1 = rho_k - rho_3k, d2 = rho_2k - rho_3k;
+    const double info = (2 * a1 * a1 - 2 * a1 * a2 + 2 * a2 * a2) / 3.0;  // per row
+    // both readings must find the noise: lag k confirms (or refutes) a lag-2k excess, but it
+    // never adds noise on its own (coarsely sampled dynamics also push lag k below 0)
+    const double eta_s = std::clamp((2 * a1 * d1 - a1 * d2 - a2 * d1 + 2 * a2 * d2) / 3.0 / info, 0.0, 1.0);
+    r.noisy = r.noisy && eta_s > std::max(0.05, 3.0 / std::sqrt(info * std::max(rows, 1.0)));
+    r.noise_share = r.noisy ? eta_s : std::min(r.noise_share, eta_s);
+  }
   r.verdict = r.noisy        ? SamplingVerdict::Noisy
               : r.continuous ? SamplingVerdict::ContinuousTime
                              : SamplingVerdict::SchemeConsistent;

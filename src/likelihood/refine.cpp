@@ -12,6 +12,7 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/likelihood/detail/bias_correction.hpp"
+#include "vehs/likelihood/detail/domain.hpp"
 #include "vehs/likelihood/detail/evaluator.hpp"
 #include "vehs/likelihood/detail/selection.hpp"
 
@@ -461,10 +462,12 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
   if (options.per_record_phase) scan_record_phases(first, data, options, choice);
   Result res = options.select ? detail::select_support(first, data, options, choice)
                               : detail::fit_support(first, data, options, choice, true);
+  detail::respect_domain(res);  // a negative amplitude flipped, other estimates outside the catalogue refused
   if (options.bias_correction_datasets > 0) {
     choice.fit_measurement_noise = res.find("measurement_sd") >= 0;
     detail::correct_filter_bias(res, data, options, choice);
   }
+  detail::respect_domain(res);
   return res;
 }
 

@@ -84,6 +84,13 @@ const ConfigSchema& diagnose_schema() {
            "samples; 0: all), \"forcing_band\": 6 (harmonic forcing scanned up to this multiple of the data's "
            "typical frequency)}.",
            "true"},
+          {"confirm", "bool | object",
+           "Before an effect is recommended for an inadequate model, refit the model with it on the first part of "
+           "every record and check that it predicts the held-out rest better (one-step likelihood; free-run RMSE "
+           "for a driven model): true/false, or {\"holdout\": 0.3, \"blocks\": 8 (held-out pieces), "
+           "\"z_threshold\": 2, \"max_samples\": 2.5e5 (whole records up to this many samples; 0: all), "
+           "\"max_effects\": 8}.",
+           "true"},
           {"alpha", "number", "Family-wise level of the verdict (Bonferroni over the components).", "0.01"},
           {"lens", "string",
            "Kinematics: auto (the model file's estimator, else the data's sampling diagnosis), forward (data from "
@@ -192,6 +199,24 @@ diagnose::Options diagnose_options(const Config& c) {
       c.fail("score_suspects", "must be true, false or an object");
     }
   }
+  o.confirm.enabled = true;  // the product confirms before it recommends (the library's default is off)
+  if (c.has("confirm")) {
+    const auto& v = c.raw("confirm");
+    if (v.is_boolean()) {
+      o.confirm.enabled = v.get<bool>();
+    } else if (v.is_object()) {
+      const Config s = c.object("confirm", {"enabled", "holdout", "blocks", "z_threshold", "max_samples", "max_effects"});
+      o.confirm.enabled = s.boolean_or("enabled", true);
+      o.confirm.holdout = s.positive_or("holdout", 0.3);
+      o.confirm.blocks = static_cast<int>(s.integer_at_least("blocks", 3, 8));
+      o.confirm.z_threshold = s.positive_or("z_threshold", 2.0);
+      o.confirm.max_samples = s.non_negative_or("max_samples", 2.5e5);
+      o.confirm.max_effects = static_cast<int>(s.integer_at_least("max_effects", 1, 8));
+      if (auto why = o.confirm.invalid_reason(); !why.empty()) c.fail("confirm", why);
+    } else {
+      c.fail("confirm", "must be true, false or an object");
+    }
+  }
   o.alpha = c.positive_or("alpha", 0.01);
   if (!(o.alpha < 0.5)) c.fail("alpha", "must be in (0, 0.5)");
   o.lens = enum_from_string(kLensNames, c.string_or("lens", "auto"), c.where("lens"));
@@ -294,7 +319,12 @@ int run_diagnose(Config& c, const AppOptions& app) {
         std::printf("  %-28s z = %6s  p = %-9s power %s%s\n", s.effect.c_str(), g(s.z, 3).c_str(),
                     g(s.p_value, 2).c_str(), g(s.power, 2).c_str(), s.significant ? "  significant" : "");
     }
+    if (r.confirmation.ran) {
+      std::printf("confirmation by held-out refits (%s):\n", r.confirmation.criterion.c_str());
+      for (const auto& e : r.confirmation.effects) std::printf("  %-28s %s\n", e.effect.c_str(), e.reason.c_str());
+    }
     for (const auto& w : r.warnings) std::printf("warning: %s\n", w.c_str());
+    std::printf("conclusion: %s\n", r.conclusion.c_str());
     std::printf("%s\n", next_step(r).c_str());
     std::printf("report: %s\nsummary: %s\n", html.c_str(), output.c_str());
   }

@@ -20,10 +20,63 @@ nlohmann::ordered_json suspect_add_fragment(const diagnose::Suspect& s) {
   return {{"effects", J::array({{{"name", s.effect}}})}};
 }
 
+namespace {
+J confirmation_to_json(const diagnose::ConfirmationReport& c) {
+  J j;
+  j["ran"] = c.ran;
+  if (!c.note.empty()) j["note"] = c.note;
+  j["criterion"] = c.criterion;
+  j["driven"] = c.driven;
+  j["train_samples"] = c.train_samples;
+  j["heldout_samples"] = c.heldout_samples;
+  j["pieces"] = c.pieces;
+  j["baseline_loglik"] = num(c.baseline_loglik);
+  j["baseline_rmse"] = num(c.baseline_rmse);
+  J effects = J::array();
+  for (const auto& e : c.effects) {
+    J x;
+    x["effect"] = e.effect;
+    x["evidence"] = e.evidence;
+    x["confirmed"] = e.confirmed;
+    x["loglik_gain"] = num(e.loglik_gain);
+    x["loglik_z"] = num(e.loglik_z);
+    x["rmse"] = num(e.rmse_effect);
+    x["rmse_z"] = num(e.rmse_z);
+    x["params"] = e.params;
+    x["params_stderr"] = e.params_stderr;
+    if (!e.error.empty()) x["error"] = e.error;
+    x["reason"] = e.reason;
+    effects.push_back(x);
+  }
+  j["effects"] = effects;
+  const auto& s = c.residuals;
+  j["residuals"] = {{"summary", s.summary},
+                    {"samples", s.samples},
+                    {"variance", num(s.variance)},
+                    {"lag1", num(s.lag1)},
+                    {"lag1_z", num(s.lag1_z)},
+                    {"excess_kurtosis", num(s.excess_kurtosis)},
+                    {"kurtosis_z", num(s.kurtosis_z)},
+                    {"heteroscedasticity", num(s.heteroscedasticity)},
+                    {"heteroscedastic_in", s.heteroscedastic_in},
+                    {"heteroscedasticity_z", num(s.heteroscedasticity_z)},
+                    {"input_correlation", num(s.input_correlation)},
+                    {"input_lag", s.input_lag},
+                    {"input_z", num(s.input_z)},
+                    {"line_frequency", num(s.line_frequency)},
+                    {"line_z", num(s.line_z)}};
+  j["seconds"] = c.seconds;
+  return j;
+}
+}  // namespace
+
 nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
   using namespace vehs::diagnose;
   J j;
   j["verdict"] = enum_to_string(diagnose::kVerdictNames, r.verdict);
+  j["conclusion"] = r.conclusion;
+  j["recommended"] = r.recommended;
+  j["outside_catalogue"] = r.outside_catalogue;
   j["score"] = r.score;
   J comp = J::object();
   for (const auto& c : r.components) comp[c.name] = c.test.available ? J(c.test.excess) : J();
@@ -65,6 +118,7 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
     score.push_back(e);
   }
   j["score_suspects"] = score;
+  j["confirmation"] = confirmation_to_json(r.confirmation);
   // ---- details
   j["score_definition"] =
       "sum over the available components of max(0, chi2/dof - 1), chi2 the chi-square quantile "

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "tools/diagnosis_file.hpp"
@@ -71,8 +72,31 @@ std::string band_plot(const std::string& csv, const std::string& title, const st
 
 }  // namespace
 
+namespace {
+/// "mu = 0.03 ± 0.004, ..." of fitted parameters.
+std::string params_text(const std::map<std::string, double>& params, const std::map<std::string, double>& stderrs) {
+  std::string text;
+  for (const auto& [key, value] : params) {
+    if (!text.empty()) text += ", ";
+    text += key + " = " + g(value);
+    if (auto se = stderrs.find(key); se != stderrs.end()) text += " ± " + g(se->second, 2);
+  }
+  return text;
+}
+}  // namespace
+
 std::string next_step(const diagnose::Result& r) {
   if (r.adequate()) return "Next step: none needed: the model reproduces the data within their statistical errors.";
+  if (r.confirmation.ran) {
+    if (r.recommended.empty())
+      return "Next step: no effect of the catalogue explains the misfit (" + r.conclusion.substr(r.conclusion.find("— ") + 4) +
+             "); see 'Confirmation by held-out refits'.";
+    std::string names;
+    for (const auto& e : r.recommended) names += (names.empty() ? "" : ", ") + e;
+    return "Next step: add " + names + " to the model's own terms and identify again (\"effects\": [\"" +
+           r.recommended.front() + "\"] with the model's terms as the libraries and no re-selection: the refit that "
+           "confirmed it on held-out data).";
+  }
   for (const auto& sp : r.suspects.ranked)
     if (sp.significant)
       return "Next step: add " + sp.effect + " to the identify-vehs config (merge " + suspect_add_fragment(sp).dump() +
@@ -325,12 +349,7 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
       Table bars({"z", "evidence"}, "effect");
       for (std::size_t i = 0; i < r.suspects.ranked.size(); ++i) {
         const auto& sp = r.suspects.ranked[i];
-        std::string params;
-        for (const auto& [key, value] : sp.params) {
-          if (!params.empty()) params += ", ";
-          params += key + " = " + g(value);
-          if (auto se = sp.params_stderr.find(key); se != sp.params_stderr.end()) params += " ± " + g(se->second, 2);
-        }
+        const std::string params = params_text(sp.params, sp.params_stderr);
         t.rows.push_back({sp.effect, g(sp.evidence), g(sp.z, 3), sp.significant ? "yes" : "no", params,
                           suspect_add_fragment(sp).dump()});
         if (sp.significant) t.highlight.push_back(i);
@@ -362,12 +381,7 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
                   "test", "add to identify-vehs config"};
       for (std::size_t i = 0; i < ss.ranked.size(); ++i) {
         const auto& sp = ss.ranked[i];
-        std::string params;
-        for (const auto& [key, value] : sp.params) {
-          if (!params.empty()) params += ", ";
-          params += key + " = " + g(value);
-          if (auto se = sp.params_stderr.find(key); se != sp.params_stderr.end()) params += " ± " + g(se->second, 2);
-        }
+        const std::string params = params_text(sp.params, sp.params_stderr);
         t.rows.push_back({sp.effect, g(sp.z, 3), g(sp.p_value, 2), sp.significant ? "yes" : "no",
                           g(sp.null_claim_rate, 2), g(sp.power, 2), params, sp.detectable, sp.test, sp.add});
         if (sp.significant) t.highlight.push_back(i);
@@ -380,6 +394,50 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
       t.header = {"effect", "why"};
       for (const auto& [name, why] : r.suspects.untested) t.rows.push_back({name, why});
       s.tables.push_back(t);
+    }
+  }
+
+  // ------------------------------------------------------------------ confirmation
+  if (r.confirmation.ran || !r.confirmation.note.empty()) {
+    const auto& c = r.confirmation;
+    auto& s = report.section("Confirmation by held-out refits");
+    s.paragraphs.push_back("Conclusion: " + r.conclusion + ".");
+    if (!c.note.empty()) s.paragraphs.push_back(c.note);
+    if (c.ran) {
+      s.paragraphs.push_back(
+          "Every significant suspect (score tests and held-out) was refitted before being recommended: " + c.criterion +
+          " (" + g(double(c.train_samples), 6) + " training samples, " + g(double(c.heldout_samples), 6) +
+          " held out; nothing outside these data is used). Significant in a test but not confirmed by the refit "
+          "means: the effect correlates with the misfit near the model, but the model refitted with it does not "
+          "predict unseen data better.");
+      ReportTable t;
+      t.caption = "Suspects refitted and judged on held-out pieces (baseline: held-out log-likelihood " +
+                  g(c.baseline_loglik) + (c.driven ? ", free-run RMSE " + g(c.baseline_rmse, 4) : std::string()) + ")";
+      t.header = {"effect", "why a candidate", "confirmed", "held-out log-likelihood gain (nats)", "z"};
+      if (c.driven) t.header.insert(t.header.end(), {"free-run RMSE with it", "z of the drop"});
+      t.header.insert(t.header.end(), {"refitted parameters", "note"});
+      for (std::size_t i = 0; i < c.effects.size(); ++i) {
+        const auto& e = c.effects[i];
+        std::vector<std::string> row{e.effect, e.evidence, e.confirmed ? "yes" : "no", g(e.loglik_gain), g(e.loglik_z, 3)};
+        if (c.driven) row.insert(row.end(), {g(e.rmse_effect, 4), g(e.rmse_z, 3)});
+        row.insert(row.end(), {params_text(e.params, e.params_stderr), e.error});
+        t.rows.push_back(row);
+        if (e.confirmed) t.highlight.push_back(i);
+      }
+      s.tables.push_back(t);
+      const auto& rs = c.residuals;
+      s.paragraphs.push_back("What the refitted baseline's held-out innovations show: " + rs.summary + ".");
+      ReportTable f;
+      f.caption = "Held-out innovations of the refitted baseline (z against white N(0, 1) innovations)";
+      f.header = {"feature", "value", "z"};
+      f.rows.push_back({"variance (1: calibrated)", g(rs.variance, 4), ""});
+      f.rows.push_back({"lag-1 autocorrelation", g(rs.lag1, 3), g(rs.lag1_z, 3)});
+      f.rows.push_back({"excess kurtosis", g(rs.excess_kurtosis, 3), g(rs.kurtosis_z, 3)});
+      f.rows.push_back({"corr(z², " + rs.heteroscedastic_in + "²)", g(rs.heteroscedasticity, 3), g(rs.heteroscedasticity_z, 3)});
+      if (std::isfinite(rs.input_z))
+        f.rows.push_back({"largest corr(z, input) (lag " + std::to_string(rs.input_lag) + ")", g(rs.input_correlation, 3), g(rs.input_z, 3)});
+      if (std::isfinite(rs.line_z)) f.rows.push_back({"largest spectral line (rad/time)", g(rs.line_frequency, 4), g(rs.line_z, 3)});
+      s.tables.push_back(f);
     }
   }
 

@@ -44,7 +44,7 @@ J sampling_json(const FitInfo& fit) {
       "lag autocorrelations of ULI residuals on a pilot subsample: about 0 at lag k for data from "
       "an explicit scheme at the recorded step, +1/4 for a sensor sampling a continuous process; "
       "white sensor noise pushes lag k toward -2/3 and lag 2k toward +1/6 but leaves lag 3k at 0, "
-      "while a smooth unmodelled force raises lags k, 2k and 3k alike (noise share = 6 (rho_2k - rho_3k))";
+      "while a smooth unmodelled force raises lags k, 2k and 3k alike (noise share = 6 (rho_2k - rho_3k); for scheme-consistent data, whose lag-k base is 0, from lags k and 2k together)";
   return s;
 }
 

@@ -389,6 +389,10 @@ IdentifiedInMemory identify_in_memory(const Config& c, const Dataset& data, cons
   const auto start = std::chrono::steady_clock::now();
   IdentifiedInMemory out{identify_fit(c, data, progress, log, ranged), {}};
   validate_model(out.fit.result.model, where);
+  for (const Effect& e : out.fit.result.model.effects)  // what simulate-vehs refuses to read, never written
+    if (const std::string why = effect_domain_violation(e); !why.empty())
+      throw Error("identify: the fit puts " + why + ": the data do not support " + e.name() +
+                  " as the catalogue defines it; " + where + " not written");
   out.sections = identify_report_sections(out.fit.result);
   out.sections["fit"]["in_memory_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

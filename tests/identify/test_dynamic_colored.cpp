@@ -42,6 +42,26 @@ TEST_CASE("sampling rule: white sensor noise is read at lag 2k against lag 3k, a
   CHECK_FALSE(identify::sampling_rule(0.25, 0.1 / 6, 0.0, 2000).noisy);
 }
 
+TEST_CASE("sampling rule: scheme-consistent data read their noise from lags k and 2k together",
+          "[identify][sampling]") {
+  // the calibration matrix's 200 x 1000 scheme data, seed 5 (data/diagnose/README.md): a
+  // 3-sigma excess at lag 2k with nothing at lag k. Lag 2k alone read 5.9 % sensor noise; white
+  // noise of that share would have put -0.039 at lag k.
+  auto r = identify::sampling_rule(0.0002, 0.0027, -0.0070, 2.0e5);
+  CHECK_FALSE(r.noisy);
+  CHECK(r.noise_share < 0.01);
+  CHECK(r.verdict == vehs::SamplingVerdict::SchemeConsistent);
+  // white sensor noise of share 0.1 on scheme data: rho_k = -(2/3) 0.1, rho_2k = 0.1 / 6
+  r = identify::sampling_rule(-0.2 / 3, 0.1 / 6, 0.0, 2.5e5);
+  CHECK(r.noisy);
+  CHECK(r.noise_share == Approx(0.1));
+  CHECK(r.verdict == vehs::SamplingVerdict::Noisy);
+  // a smooth force adds the same to every lag: still clean scheme data
+  r = identify::sampling_rule(0.03, 0.03, 0.03, 2.5e5);
+  CHECK_FALSE(r.noisy);
+  CHECK(r.verdict == vehs::SamplingVerdict::SchemeConsistent);
+}
+
 TEST_CASE("an OU excitation is not mistaken for sensor noise: identify on its data picks the clean ULI estimator",
           "[identify][sampling][colored]") {
   // tau = 0.2 = 20 samples, intensity comparable to the white part (a 10-sample tau read as 40 %

@@ -89,6 +89,17 @@ TEST_CASE("diagnose-vehs end to end: contract JSON, report in Chromium, history 
   }
   CHECK(j1["verdict"] == "inadequate");
   CHECK(j1["suspects"][0]["effect"] == "coulomb_friction");
+  // confirmed before recommended (confirmation.hpp): the refit with the friction predicts the
+  // held-out pieces better (power check, as above), and it is the recommendation
+  INFO("conclusion: " << j1["conclusion"].dump() << "\nconfirmation: " << j1["confirmation"].dump());
+  REQUIRE(j1["confirmation"]["ran"] == true);
+  REQUIRE(j1["recommended"].is_array());
+  REQUIRE(!j1["recommended"].empty());
+  CHECK(j1["recommended"][0] == "coulomb_friction");
+  CHECK(j1["conclusion"].get<std::string>().rfind("inadequate — add coulomb_friction", 0) == 0);
+  CHECK(j1["outside_catalogue"] == false);
+  CHECK(j2["conclusion"] == "adequate");
+  CHECK(j2["recommended"].empty());
   CHECK(j2["verdict"] == "adequate");
   CHECK(j2["score"].get<double>() < j1["score"].get<double>());
   // coulomb_friction is in version 2: not a suspect any more

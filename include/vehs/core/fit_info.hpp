@@ -43,7 +43,7 @@ struct SamplingDiagnosis {
   double rho_k = kUnknown;      ///< lag-k
   double rho_2k = kUnknown;     ///< lag-2k
   double rho_3k = kUnknown;     ///< lag-3k
-  double noise_share = kUnknown;  ///< η = 6 (ρ_2k − ρ_3k), clamped to [0, 1]
+  double noise_share = kUnknown;  ///< η = 6 (ρ_2k − ρ_3k) (scheme-consistent: GLS over lags k, 2k), in [0, 1]
   SamplingVerdict verdict = SamplingVerdict::Unknown;
   double sensor_noise_sd = 0.0;  ///< white sensor noise s on x (estimated by the noisy estimator)
 };

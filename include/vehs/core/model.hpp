@@ -136,6 +136,11 @@ std::string unknown_parameter(EffectId id, const std::string& key);
 /// an error message (": effect 'x' needs parameter 'y' (...)" or ".params.y must be > 0 ...").
 std::string complete_effect(Effect& effect, bool require_params);
 
+/// Empty when every parameter of the effect lies in its catalogue domain, else
+/// "<effect>.<param> = <value> is outside its domain (>= 0)" for the first that does not
+/// (what a model file refuses; complete_effect's bound check).
+std::string effect_domain_violation(const Effect& effect);
+
 /// Adds an effect to a model: a term-like effect becomes its drift / diffusion terms (an error
 /// when a term is already there), a dynamic one is appended to Model::effects (an error when it
 /// is already there). Its parameters are completed and checked first. Errors are prefixed with

@@ -47,6 +47,11 @@
 //     part of every record and scored on the held-out rest. Their refits are moment estimators
 //     (expansions in Δt): for a likelihood fit or at ω̂·Δt ≥ 0.2 (0.1 with an input) they are not
 //     a test of the model (component unavailable, nothing claimed); the score tests are.
+//  6. Confirmation (confirmation.hpp, Options::confirm): for an inadequate model every
+//     significant suspect is refitted the way the model was fitted and must predict held-out
+//     pieces of the records better before it is recommended (Result::recommended); when none
+//     is, Result::conclusion says what fails and what the held-out innovations show — "the
+//     misfit is outside the catalogue" when the model fails far beyond the threshold.
 //
 // Units: time in the units of the records' t column; x as recorded; v̂ in x per time unit.
 // Memory: the data, one twin replicate at a time, and O(units × bins) statistics.
@@ -61,6 +66,7 @@
 #include "vehs/core/fit_info.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/core/progress.hpp"
+#include "vehs/diagnose/confirmation.hpp"
 #include "vehs/diagnose/hypothesis.hpp"
 #include "vehs/diagnose/lens.hpp"
 #include "vehs/diagnose/score_suspects.hpp"
@@ -121,6 +127,10 @@ struct Options {
   /// score_suspects.max_samples): score_suspects.hpp; a component of the verdict when enabled.
   /// Off by default in the library (diagnose-vehs turns it on): it costs a few filter passes.
   ScoreSuspectOptions score_suspects{false};
+  /// When the model is inadequate, the significant suspects (score tests and held-out) are
+  /// refitted and judged on held-out pieces of the records before any is recommended
+  /// (confirmation.hpp). Off by default in the library (diagnose-vehs turns it on).
+  ConfirmationOptions confirm;
   ProgressCallback progress;           ///< tasks "diagnose", "parameter draws", "suspects"; empty: none
 
   std::string invalid_reason() const;
@@ -212,6 +222,16 @@ struct Result {
   std::string fpk_note;  ///< why the FPK reference is missing, or its grid
   SuspectReport suspects;
   ScoreSuspectReport score_suspects;
+  ConfirmationReport confirmation;
+  /// The effects diagnose recommends adding: with Options::confirm, the confirmed ones; without
+  /// it, every significant suspect (score tests, then held-out). Empty for an adequate model.
+  std::vector<std::string> recommended;
+  /// Inadequate at a significance far beyond the threshold (smallest component p below
+  /// 1e-6 × threshold), the suspects were refitted, and none was confirmed.
+  bool outside_catalogue = false;
+  /// One line: "adequate", "inadequate — add …", "inadequate — the misfit is outside the
+  /// catalogue: …" (what fails and what the held-out innovations show), or "inadequate — …".
+  std::string conclusion;
   std::vector<std::string> warnings;
   std::vector<std::pair<std::string, double>> timings;  ///< seconds per stage, in order
 };

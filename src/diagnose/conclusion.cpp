@@ -1,0 +1,113 @@
+// What a diagnosis concludes (diagnose.hpp: Result::recommended, outside_catalogue,
+// conclusion): the suspects confirmed by held-out refits (confirmation.hpp), or — when none is —
+// that the misfit is outside the catalogue, with what fails and what the innovations show.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "comparison.hpp"
+#include "unit_math.hpp"
+
+namespace vehs::diagnose::detail {
+
+namespace {
+
+std::string join(const std::vector<std::string>& v, const std::string& sep) {
+  std::string s;
+  for (const auto& a : v) s += (s.empty() ? "" : sep) + a;
+  return s;
+}
+
+/// The effects behind the significant suspects: score tests first (by p), then held-out ones.
+std::vector<Candidate> significant_suspects(const Result& res) {
+  std::vector<Candidate> out;
+  auto add = [&](const std::string& name, const std::string& evidence) {
+    const std::string base = name == "harmonic_forcing_per_record" ? "harmonic_forcing" : name;
+    const EffectId id = enum_from_string(kEffectNames, base, "suspect");
+    for (Candidate& c : out)
+      if (c.id == id) {
+        c.evidence += "; " + evidence;
+        return;
+      }
+    out.push_back({id, evidence});
+  };
+  for (const auto& s : res.score_suspects.ranked)
+    if (s.significant) add(s.effect, (s.effect == "harmonic_forcing_per_record" ? "score test (one phase per record) z = " : "score test z = ") + fmt(s.z));
+  for (const auto& s : res.suspects.ranked)
+    if (s.significant) add(s.effect, "held-out z = " + fmt(s.z));
+  return out;
+}
+
+/// "one_step, drift_shape and residual_spectrum fail (smallest p 1e-52)".
+std::string failing_components(const Result& res) {
+  std::string names;
+  double p_min = 1.0;
+  int n = 0;
+  for (const auto& c : res.components)
+    if (c.test.available && c.test.p_value < res.threshold) {
+      names += (names.empty() ? "" : ", ") + c.name;
+      p_min = std::min(p_min, c.test.p_value);
+      ++n;
+    }
+  if (n == 0) return "no component fails";
+  return names + (n == 1 ? " fails" : " fail") + " (smallest p " + (p_min > 0 ? fmt(p_min, 2) : std::string("< 1e-300")) + ")";
+}
+
+double smallest_p(const Result& res) {
+  double p = 1.0;
+  for (const auto& c : res.components)
+    if (c.test.available) p = std::min(p, c.test.p_value);
+  return p;
+}
+
+}  // namespace
+
+void confirm_suspects(const Model& model, const Dataset& data, const Options& opt, Result& res, Stopwatch& watch) {
+  try {
+    res.confirmation = confirm_effects(model, data, res.lens, significant_suspects(res), res.suspects, opt.confirm);
+  } catch (const std::exception& e) {
+    res.confirmation.note = e.what();
+  }
+  watch.lap(res, "confirmation");
+}
+
+void conclude(Result& res, bool confirmed_by_refits) {
+  res.recommended.clear();
+  res.outside_catalogue = false;
+  if (res.adequate()) {
+    res.conclusion = "adequate";
+    return;
+  }
+  const ConfirmationReport& c = res.confirmation;
+  if (!confirmed_by_refits || !c.ran) {
+    for (const Candidate& s : significant_suspects(res)) res.recommended.push_back(enum_to_string(kEffectNames, s.id));
+    res.conclusion = "inadequate — " + (res.recommended.empty() ? std::string("no catalogue effect is significant")
+                                                                 : "suspects: " + join(res.recommended, ", ")) +
+                     "; " + failing_components(res) +
+                     (confirmed_by_refits ? " (not confirmed by refits: " + c.note + ")" : "");
+    return;
+  }
+  std::vector<std::string> details;
+  for (const Confirmation& e : c.effects)
+    if (e.confirmed) {
+      res.recommended.push_back(e.effect);
+      details.push_back(e.effect + " (" + e.reason.substr(e.reason.find(':') + 2) + ")");
+    }
+  if (!res.recommended.empty()) {
+    res.conclusion = "inadequate — add " + join(details, "; ");
+    return;
+  }
+  const bool huge = smallest_p(res) < 1e-6 * res.threshold;
+  res.outside_catalogue = huge;
+  const std::string tried = c.effects.empty() ? std::string("no catalogue effect is significant")
+                                              : "no significant catalogue effect is confirmed by a refit (" +
+                                                    std::to_string(c.effects.size()) + " tried)";
+  res.conclusion = std::string("inadequate — ") +
+                   (huge ? "the misfit is outside the catalogue: " : "no catalogue effect explains the misfit: ") +
+                   failing_components(res) + "; " + tried +
+                   (c.residuals.summary.empty() ? std::string() : "; held-out innovations: " + c.residuals.summary);
+}
+
+}  // namespace vehs::diagnose::detail

@@ -1,0 +1,135 @@
+// The confirmation of suspects (include/vehs/diagnose/confirmation.hpp): what the held-out
+// innovations show (src/diagnose/residual_signature.cpp) on innovation series with a known law,
+// and the conclusion drawn from the verdict and the refits (src/diagnose/conclusion.cpp). The
+// refits themselves run end to end in tests/tools/test_diagnose_tool.cpp (hidden dry friction:
+// confirmed and recommended) and on real data in bench/diagnose_silverbox.sh.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "../../src/diagnose/comparison.hpp"
+#include "../../src/diagnose/residual_signature.hpp"
+#include "vehs/diagnose/diagnose.hpp"
+
+namespace {
+
+struct Series {
+  vehs::Dataset held;
+  vehs::likelihood::FilterTrace trace;
+};
+
+/// 8 pieces × 2000 samples of innovations z (predicted 0, variance 1) made by `make(k, rng)`,
+/// with independent N(0, 1) filtered states and an input u.
+template <class Make>
+Series series(std::uint64_t seed, Make make) {
+  Series s;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n01;
+  for (int r = 0; r < 8; ++r) {
+    vehs::Dataset piece;
+    vehs::Record rec;
+    rec.dt = 0.01;
+    rec.size = 2000;
+    piece.records.push_back(rec);
+    for (std::size_t k = 0; k < rec.size; ++k) piece.u.push_back(n01(rng));
+    for (std::size_t k = 0; k < rec.size; ++k) {
+      const double y = n01(rng);
+      s.trace.filtered_y.push_back(y);
+      s.trace.filtered_x.push_back(n01(rng));
+      s.trace.predicted_x.push_back(0.0);
+      s.trace.predicted_var.push_back(1.0);
+      piece.x.push_back(make(k, piece.u, k > 0 ? s.trace.filtered_y[s.trace.filtered_y.size() - 2] : 0.0,
+                             k > 0 ? piece.x.back() : 0.0, rng));
+    }
+    s.held.append(std::move(piece));
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("residual signature: white innovations show nothing; tails, memory, a variance following the state, the "
+          "input and a line are each named", "[diagnose][confirmation]") {
+  std::normal_distribution<double> n01;
+  // white N(0, 1): each of the 7 z's beyond 4.5 with probability ≤ 6.8e-6 (two-sided normal;
+  // the line and input z's are Bonferroni-corrected, so smaller): ≤ 5e-5 per run in all
+  const Series white = series(11, [&](std::size_t, const std::vector<double>&, double, double, std::mt19937_64& g) { return n01(g); });
+  const auto w = vehs::diagnose::residual_signature(white.held, white.trace, 0.01);
+  INFO(w.summary);
+  CHECK(w.samples == 8 * 1999);
+  CHECK(std::abs(w.lag1_z) < 4.5);
+  CHECK(std::abs(w.kurtosis_z) < 4.5);
+  CHECK(std::abs(w.heteroscedasticity_z) < 4.5);
+  CHECK(w.input_z < 4.5);
+  CHECK(w.line_z < 4.5);
+  CHECK(w.summary.find("no feature") != std::string::npos);
+  // each feature built in at a size whose expected z is ≥ 20 (n ≈ 16000): failure probability
+  // negligible (< 1e-20 each)
+  auto first_feature = [&](auto make) {
+    const Series s = series(12, make);
+    return vehs::diagnose::residual_signature(s.held, s.trace, 0.01).summary;
+  };
+  std::student_t_distribution<double> t5(5.0);  // excess kurtosis 6: z ≈ 6/√(24/16000) ≈ 150
+  CHECK(first_feature([&](std::size_t, const std::vector<double>&, double, double, std::mt19937_64& g) {
+          return t5(g) / std::sqrt(5.0 / 3.0);
+        }).rfind("heavy-tailed", 0) == 0);
+  CHECK(first_feature([&](std::size_t, const std::vector<double>&, double, double prev, std::mt19937_64& g) {
+          return 0.3 * prev + std::sqrt(1 - 0.09) * n01(g);  // lag-1 0.3: z ≈ 38
+        }).rfind("innovations correlated in time", 0) == 0);
+  CHECK(first_feature([&](std::size_t, const std::vector<double>&, double y, double, std::mt19937_64& g) {
+          return n01(g) * std::sqrt(0.2 + 0.8 * y * y);  // corr(z², ŷ²) ≈ 0.45: z ≈ 57
+        }).find("innovation variance following the velocity") != std::string::npos);
+  CHECK(first_feature([&](std::size_t k, const std::vector<double>& u, double, double, std::mt19937_64& g) {
+          return 0.9 * n01(g) + (k >= 3 ? 0.4 * u[k - 3] : 0.0);  // corr ≈ 0.4 at lag 3: z ≈ 50
+        }).rfind("innovations correlated with the input (corr 0.4", 0) == 0);
+  const std::string line = first_feature([&](std::size_t k, const std::vector<double>&, double, double, std::mt19937_64& g) {
+    return n01(g) + 0.3 * std::cos(2 * M_PI * 32.0 / 256.0 * double(k));  // 2π·32/(256·0.01) = 78.5 rad/time
+  });
+  CHECK(line.rfind("a spectral line in the innovations at 78.5", 0) == 0);
+}
+
+TEST_CASE("conclusion: confirmed effects are recommended; none confirmed at a huge significance is outside the "
+          "catalogue", "[diagnose][confirmation]") {
+  using namespace vehs::diagnose;
+  Result r;
+  r.verdict = Verdict::Inadequate;
+  r.threshold = 1e-3;
+  Component c{"one_step", "", TestResult{}};
+  c.test.available = true;
+  c.test.p_value = 1e-40;
+  r.components.push_back(c);
+  r.confirmation.ran = true;
+  r.confirmation.residuals.summary = "heavy-tailed innovations (excess kurtosis 6.3, z 180)";
+  Confirmation no;
+  no.effect = "velocity_dependent_noise";
+  no.reason = "not confirmed: held-out ...";
+  r.confirmation.effects.push_back(no);
+  detail::conclude(r, true);
+  CHECK(r.recommended.empty());
+  CHECK(r.outside_catalogue);
+  CHECK(r.conclusion.rfind("inadequate — the misfit is outside the catalogue: one_step fails (smallest p 1e-40)", 0) == 0);
+  CHECK(r.conclusion.find("no significant catalogue effect is confirmed by a refit (1 tried)") != std::string::npos);
+  CHECK(r.conclusion.find("heavy-tailed innovations") != std::string::npos);
+  // failing close to the threshold: not claimed to be outside the catalogue
+  r.components[0].test.p_value = 1e-5;
+  detail::conclude(r, true);
+  CHECK_FALSE(r.outside_catalogue);
+  CHECK(r.conclusion.rfind("inadequate — no catalogue effect explains the misfit", 0) == 0);
+  // a confirmed effect is recommended
+  Confirmation yes;
+  yes.effect = "quadratic_damping";
+  yes.confirmed = true;
+  yes.reason = "confirmed: held-out one-step log-likelihood +670 nats (z 18)";
+  r.confirmation.effects.push_back(yes);
+  detail::conclude(r, true);
+  REQUIRE(r.recommended.size() == 1);
+  CHECK(r.recommended[0] == "quadratic_damping");
+  CHECK(r.conclusion == "inadequate — add quadratic_damping (held-out one-step log-likelihood +670 nats (z 18))");
+  // an adequate model recommends nothing
+  r.verdict = Verdict::Adequate;
+  detail::conclude(r, true);
+  CHECK(r.recommended.empty());
+  CHECK(r.conclusion == "adequate");
+}
