@@ -77,7 +77,7 @@ Dataset simulate(const Model& m, double dt, int records, double T, std::uint64_t
   return sim::simulate(m, o);
 }
 
-double sd_of(const std::vector<double>& v) {
+double sd_of(const vehs::Column& v) {
   double m = 0, s = 0;
   for (double x : v) m += x;
   m /= double(v.size());

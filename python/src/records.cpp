@@ -23,8 +23,12 @@ Records records_from_arrays(InColumn x, const std::vector<std::size_t>& sizes, d
                                                " samples, x has " + std::to_string(x.shape(0)));
   Records r;
   Dataset& d = *r.data;
-  d.x.assign(x.data(), x.data() + x.shape(0));
-  if (u) d.u.assign(u->data(), u->data() + u->shape(0));
+  d.x = vehs::Column::view(x.data(), x.shape(0));
+  r.viewed.push_back(x);
+  if (u) {
+    d.u = vehs::Column::view(u->data(), u->shape(0));
+    r.viewed.push_back(*u);
+  }
   std::size_t offset = 0;
   for (std::size_t i = 0; i < sizes.size(); ++i) {
     Record rec;
@@ -39,9 +43,10 @@ Records records_from_arrays(InColumn x, const std::vector<std::size_t>& sizes, d
   return r;
 }
 
-Column column_view(Records&, std::vector<double>& column, nb::handle self) {
+nb::object column_view(const vehs::Column& column, nb::handle self) {
   const std::size_t shape[1] = {column.size()};
-  return Column(column.data(), 1, shape, self);
+  if (column.is_view()) return nb::cast(ReadOnlyColumn(column.data(), 1, shape, self));
+  return nb::cast(Column(const_cast<double*>(column.data()), 1, shape, self));  // owned by the Records
 }
 
 void bind_records(nb::module_& m) {
@@ -49,16 +54,13 @@ void bind_records(nb::module_& m) {
       .def_static("from_arrays", &records_from_arrays, nb::arg("x"), nb::arg("sizes"), nb::arg("dt"),
                   nb::arg("u").none() = nb::none(), nb::arg("source") = "array")
       .def_prop_ro("x", [](nb::handle_t<Records> self) {
-        Records& r = nb::cast<Records&>(self);
-        return column_view(r, r.data->x, self);
+        return column_view(nb::cast<const Records&>(self).data->x, self);
       })
       .def_prop_ro("y", [](nb::handle_t<Records> self) {
-        Records& r = nb::cast<Records&>(self);
-        return column_view(r, r.data->y, self);
+        return column_view(nb::cast<const Records&>(self).data->y, self);
       })
       .def_prop_ro("u", [](nb::handle_t<Records> self) {
-        Records& r = nb::cast<Records&>(self);
-        return column_view(r, r.data->u, self);
+        return column_view(nb::cast<const Records&>(self).data->u, self);
       })
       .def_prop_ro("sizes", [](const Records& r) {
         std::vector<std::size_t> s;
@@ -71,9 +73,12 @@ void bind_records(nb::module_& m) {
         return s;
       })
       .def("address", [](const Records& r, const std::string& column) {
-        const std::vector<double>& v = column == "y" ? r.data->y : column == "u" ? r.data->u : r.data->x;
+        const vehs::Column& v = column == "y" ? r.data->y : column == "u" ? r.data->u : r.data->x;
         return reinterpret_cast<std::uintptr_t>(v.data());
       }, "Address of a column's memory in the library (to check that views are not copies).")
+      .def("is_view", [](const Records& r, const std::string& column) {
+        return (column == "y" ? r.data->y : column == "u" ? r.data->u : r.data->x).is_view();
+      }, "Whether a column views the caller's array (True) or is the library's own memory.")
       .def_prop_ro("dt", [](const Records& r) { return r.data->common_dt(); });
 }
 

@@ -1,8 +1,13 @@
 """NumPy arrays out of the library without copies (checked by buffer address), and in: Records
-are read in place, plain arrays are copied once."""
+and C-contiguous float64 arrays are read in place (the library's Dataset views the array), other
+arrays are copied once and give the same model."""
+import gc
+
 import numpy as np
+import pytest
 
 import vehs
+import vehs.compute
 
 MODEL = vehs.Model.paper(0.1, {1: -1.0, 3: 1.0}, 0.02, 0.01)
 
@@ -21,17 +26,74 @@ def test_simulated_records_are_views_of_the_library_memory():
     assert np.isfinite(x).all() and x.base is not None
 
 
-def test_records_from_arrays_copy_once_then_identify_reads_them_in_place():
+def test_contiguous_float64_arrays_are_read_in_place():
     rng = np.random.default_rng(1)
-    x = rng.standard_normal((2, 500))
-    r = vehs.as_records(x, dt=0.01)
-    assert address(r.x) == r._core.address("x") and address(r.x) != address(x)
-    np.testing.assert_array_equal(r.x, x)
+    x, u = rng.standard_normal((2, 500)), rng.standard_normal((2, 500))
+    r = vehs.as_records(x, dt=0.01, u=u)
+    for name, a in (("x", x), ("u", u)):
+        assert r._core.is_view(name) and r._core.address(name) == a.ctypes.data  # the library sees a's memory
+        assert address(getattr(r, name)) == a.ctypes.data and not getattr(r, name).flags.writeable
+    one = rng.standard_normal(300)  # 1-D: one record
+    assert vehs.as_records(one, dt=0.01)._core.address("x") == one.ctypes.data
     assert vehs.as_records(r) is r  # a Records goes in as it is
 
 
-def test_stationary_density_is_a_view():
-    s = vehs.stationary(MODEL, grid={"x": 100, "y": 100})
-    assert s.density.shape == (100, 100)
-    assert address(s.density) == s._core.address()
-    assert abs(s.density.sum() * (s.x[1] - s.x[0]) * (s.y[1] - s.y[0]) - 1.0) < 1e-9
+def test_a_viewed_array_is_held_while_the_records_live():
+    x = np.random.default_rng(2).standard_normal((3, 400))
+    kept = x.copy()
+    r = vehs.as_records(x, dt=0.01)
+    with pytest.raises(ValueError):
+        x.resize((6, 400))  # NumPy refuses: the Records references it
+    del x
+    gc.collect()
+    np.testing.assert_array_equal(r.x, kept)  # still alive, unchanged
+
+
+def test_identify_reads_a_contiguous_array_in_place(monkeypatch):
+    x = vehs.simulate(MODEL, trajectories=2, duration=50, dt=0.01, seed=3).x.copy()
+    seen = []
+    original = vehs.compute._vehs.identify
+
+    def spy(core, options, progress):  # the pointer the binding works on
+        seen.append((core.is_view("x"), core.address("x")))
+        return original(core, options, progress)
+
+    monkeypatch.setattr(vehs.compute._vehs, "identify", spy)
+    vehs.identify(x, dt=0.01)
+    assert seen == [(True, x.ctypes.data)]
+    vehs.identify(x[:, ::2], dt=0.02)  # strided: converted once, then read in place
+    assert seen[1][0] and seen[1][1] != x.ctypes.data
+
+
+def test_strided_fortran_and_float32_arrays_are_copied_and_give_the_same_model():
+    x = vehs.simulate(MODEL, trajectories=3, duration=100, dt=0.01, seed=4).x.copy()
+    options = {"drift_library": ["x", "x^3", "y"], "diffusion_library": ["1"], "sparsity": "none"}
+
+    def fit(a, dt=0.01):
+        return vehs.identify(a, dt=dt, **options)[0].to_dict()
+
+    wide = np.zeros((3, 2 * x.shape[1]))
+    wide[:, ::2] = x
+    assert fit(wide[:, ::2]) == fit(x)  # strided view of the same values
+    assert fit(np.asfortranarray(x)) == fit(x)
+    x32 = x.astype(np.float32)
+    r = vehs.as_records(x32, dt=0.01)
+    assert r._core.is_view("x") and r._core.address("x") != x32.ctypes.data  # viewed after one conversion
+    assert fit(x32) == fit(x32.astype(np.float64))
+    assert fit([row for row in x]) == fit(x)  # a list of records: concatenated once
+
+
+def test_detrended_fit_copies_and_leaves_the_array_alone():
+    sim = vehs.simulate(MODEL, trajectories=2, duration=100, dt=0.01, seed=6)  # the library's own memory
+    x = np.array(sim.x)  # the same values in a contiguous float64 array (viewed)
+    kept = x.copy()
+    options = {"drift_library": ["x", "x^3", "y"], "diffusion_library": ["1"], "sparsity": "none", "detrend": "mean"}
+    owned = vehs.identify(sim, **options)[0].to_dict()
+    viewed = vehs.identify(x, dt=0.01, **options)[0].to_dict()
+    assert viewed == owned  # bitwise: the same detrending of the same values
+    np.testing.assert_array_equal(x, kept)  # the caller's array is not detrended in place
+    # DC offsets are removed: the same model to rounding (the means differ in the last bits)
+    shifted = vehs.identify(x + np.array([[0.3], [-0.2]]), dt=0.01, **options)[0].to_dict()
+    for term, c in owned["drift"].items():
+        assert shifted["drift"][term] == pytest.approx(c, rel=1e-8, abs=1e-12), term
+    assert vehs.identify(x + 0.3, dt=0.01, **dict(options, detrend="none"))[0].to_dict()["drift"] != owned["drift"]

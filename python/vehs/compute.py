@@ -69,7 +69,9 @@ def identify(x, dt=None, u=None, progress=None, **options):
     """Drift and diffusion from displacement records: ``(Model, report)``.
 
     ``x``: Records (used in place), a 2-D array (records × samples), a 1-D array or a list of
-    1-D arrays (copied once). Options are identify-vehs's keys (estimator, drift_library,
+    1-D arrays: a C-contiguous float64 array is read in place (no copy; see :func:`as_records`),
+    others are copied once. ``detrend="mean"`` necessarily works on a copy of the records (the
+    caller's array is never modified). Options are identify-vehs's keys (estimator, drift_library,
     diffusion_library, effects, sparsity, criterion, ...). The model carries the report sections,
     so ``model.save(path)`` writes what identify-vehs writes (without its data/provenance)."""
     records = as_records(x, dt, u)

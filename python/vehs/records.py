@@ -7,7 +7,8 @@ from . import _vehs
 class Records:
     """Records of x (and the true velocity y from a simulation, the drive u when present).
 
-    The arrays are NumPy views of the library's own memory (no copy): ``x`` is 2-D (records ×
+    The arrays are NumPy views of the records' memory (no copy): the library's own for simulated
+    records, else the array the Records was made from (read-only then). ``x`` is 2-D (records ×
     samples) when every record has the same length, else 1-D (all records concatenated; ``sizes``
     tells where each ends).
     """
@@ -60,7 +61,13 @@ class Records:
 
 def as_records(x, dt=None, u=None, source="x"):
     """Records from a Records (as is), a 2-D array (one record per row), a 1-D array (one record)
-    or a list of 1-D arrays (records of any lengths). Arrays are copied once into the library."""
+    or a list of 1-D arrays (records of any lengths).
+
+    A C-contiguous float64 array is not copied: the library reads its memory in place, and the
+    Records holds the array (it cannot be freed or resized meanwhile; writing into it while a call
+    reads it, e.g. from another thread, is undefined, as NumPy's own rules say). Other arrays (other
+    dtypes, strided views, Fortran order) and lists of records are converted to one contiguous
+    float64 array first (one copy)."""
     if isinstance(x, Records):
         if u is not None:
             raise _vehs.Error(f"{source}: u comes with the Records")

@@ -74,9 +74,16 @@ void Dataset::append(Dataset&& other) {
     r.offset += shift;
     records.push_back(std::move(r));
   }
-  x.insert(x.end(), other.x.begin(), other.x.end());
-  u.insert(u.end(), other.u.begin(), other.u.end());
-  y.insert(y.end(), other.y.begin(), other.y.end());
+  const Dataset& from = other;  // read only: `other` may view caller memory
+  x.insert(x.end(), from.x.begin(), from.x.end());
+  u.insert(u.end(), from.u.begin(), from.u.end());
+  y.insert(y.end(), from.y.begin(), from.y.end());
+}
+
+void Dataset::own() {
+  x.own();
+  u.own();
+  y.own();
 }
 
 std::string record_name(const Record& r) {
@@ -99,8 +106,10 @@ void check_records(const Dataset& data, const RecordChecks& checks) {
 }
 
 void subtract_record_means(Dataset& data) {
+  data.x.own();
+  data.u.own();
   for (const auto& r : data.records) {
-    auto center = [&](std::vector<double>& col) {
+    auto center = [&](Column& col) {
       if (col.empty()) return;
       double m = 0.0;
       for (std::size_t i = 0; i < r.size; ++i) m += col[r.offset + i];

@@ -162,7 +162,7 @@ Dataset to_internal(const Dataset& data, const Scales& s) {
     r.t0 /= s.time;
     r.dt /= s.time;
   }
-  auto scaled = [](const std::vector<double>& v, double by) {
+  auto scaled = [](const Column& v, double by) {
     std::vector<double> out(v.size());
     for (std::size_t i = 0; i < v.size(); ++i) out[i] = v[i] / by;
     return out;

@@ -40,7 +40,7 @@ Series series(std::uint64_t seed, Make make) {
       s.trace.filtered_x.push_back(n01(rng));
       s.trace.predicted_x.push_back(0.0);
       s.trace.predicted_var.push_back(1.0);
-      piece.x.push_back(make(k, piece.u, k > 0 ? s.trace.filtered_y[s.trace.filtered_y.size() - 2] : 0.0,
+      piece.x.push_back(make(k, piece.u.values(), k > 0 ? s.trace.filtered_y[s.trace.filtered_y.size() - 2] : 0.0,
                              k > 0 ? piece.x.back() : 0.0, rng));
     }
     s.held.append(std::move(piece));

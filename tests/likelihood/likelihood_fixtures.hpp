@@ -45,7 +45,8 @@ inline vehs::Dataset simulate(const vehs::Model& m, double dt, int records, doub
   return vehs::sim::simulate(m, o);
 }
 
-inline double sd_of(const std::vector<double>& v) {
+template <class Values>  // std::vector<double> or vehs::Column
+double sd_of(const Values& v) {
   double m = 0.0, s = 0.0;
   for (double x : v) m += x;
   m /= double(v.size());

@@ -29,7 +29,8 @@ struct LevelGuard {
   ~LevelGuard() { set_simd_level(saved); }
 };
 
-bool bitwise_equal(const std::vector<double>& a, const std::vector<double>& b) {
+template <class Values>  // std::vector<double> or vehs::Column
+bool bitwise_equal(const Values& a, const Values& b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
 }
 

@@ -2,11 +2,14 @@
 // Displacement records in memory: every record of every source in one Dataset whose columns are
 // concatenated, so memory is 8 bytes per sample per loaded column and nothing else grows with
 // the data. Files are read and written by vehs/io/measurements.hpp; the simulator fills Datasets
-// directly.
+// directly. A column may also view memory it does not own (vehs/core/column.hpp: a NumPy array
+// from Python, read in place); such a Dataset is read-only until its columns are copied (own()).
 #include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
+
+#include "vehs/core/column.hpp"
 
 namespace vehs {
 
@@ -23,9 +26,9 @@ struct Record {
 
 struct Dataset {
   std::vector<Record> records;
-  std::vector<double> x;  ///< all records' displacement, concatenated
-  std::vector<double> u;  ///< drive, same layout, or empty when no file had one
-  std::vector<double> y;  ///< true velocity when read, else empty
+  Column x;  ///< all records' displacement, concatenated
+  Column u;  ///< drive, same layout, or empty when no file had one
+  Column y;  ///< true velocity when read, else empty
 
   bool has_u() const { return !u.empty(); }
   bool has_y() const { return !y.empty(); }
@@ -36,8 +39,11 @@ struct Dataset {
   /// Common sampling interval; throws vehs::Error naming two records that disagree by more
   /// than the jitter tolerance.
   double common_dt() const;
-  /// Appends another dataset (its offsets are shifted).
+  /// Appends another dataset (its offsets are shifted). This dataset must own its columns
+  /// (a view throws vehs::Error); `other` may view.
   void append(Dataset&& other);
+  /// Copies every column that views caller memory into owned memory (nothing when none does).
+  void own();
 };
 
 /// "file: record traj=3 (from line 12)": how every error names a record.
@@ -57,7 +63,8 @@ struct RecordChecks {
 void check_records(const Dataset& data, const RecordChecks& checks);
 
 /// Subtracts each record's mean from x and u (the DC offsets of real sensors; config key
-/// `detrend: "mean"`).
+/// `detrend: "mean"`). Columns that view caller memory are copied first (copy-on-write: the
+/// caller's array is never modified).
 void subtract_record_means(Dataset& data);
 
 /// Returned by a `take` function of leading_samples to end the selection.
