@@ -16,6 +16,12 @@ def address(a):
     return a.__array_interface__["data"][0]
 
 
+def coefficients(model):
+    """What a fit estimated (the model's dict less its report sections, which hold timings)."""
+    d = model.to_dict()
+    return {k: d[k] for k in ("drift", "diffusion", "stderr")}
+
+
 def test_simulated_records_are_views_of_the_library_memory():
     r = vehs.simulate(MODEL, trajectories=3, duration=10, dt=0.01, seed=5)
     assert r.x.shape == (3, 1000) and r.y.shape == (3, 1000)
@@ -70,7 +76,7 @@ def test_strided_fortran_and_float32_arrays_are_copied_and_give_the_same_model()
     options = {"drift_library": ["x", "x^3", "y"], "diffusion_library": ["1"], "sparsity": "none"}
 
     def fit(a, dt=0.01):
-        return vehs.identify(a, dt=dt, **options)[0].to_dict()
+        return coefficients(vehs.identify(a, dt=dt, **options)[0])
 
     wide = np.zeros((3, 2 * x.shape[1]))
     wide[:, ::2] = x
@@ -88,12 +94,22 @@ def test_detrended_fit_copies_and_leaves_the_array_alone():
     x = np.array(sim.x)  # the same values in a contiguous float64 array (viewed)
     kept = x.copy()
     options = {"drift_library": ["x", "x^3", "y"], "diffusion_library": ["1"], "sparsity": "none", "detrend": "mean"}
-    owned = vehs.identify(sim, **options)[0].to_dict()
-    viewed = vehs.identify(x, dt=0.01, **options)[0].to_dict()
+    owned = coefficients(vehs.identify(sim, **options)[0])
+    viewed = coefficients(vehs.identify(x, dt=0.01, **options)[0])
     assert viewed == owned  # bitwise: the same detrending of the same values
     np.testing.assert_array_equal(x, kept)  # the caller's array is not detrended in place
     # DC offsets are removed: the same model to rounding (the means differ in the last bits)
-    shifted = vehs.identify(x + np.array([[0.3], [-0.2]]), dt=0.01, **options)[0].to_dict()
+    shifted = coefficients(vehs.identify(x + np.array([[0.3], [-0.2]]), dt=0.01, **options)[0])
     for term, c in owned["drift"].items():
         assert shifted["drift"][term] == pytest.approx(c, rel=1e-8, abs=1e-12), term
-    assert vehs.identify(x + 0.3, dt=0.01, **dict(options, detrend="none"))[0].to_dict()["drift"] != owned["drift"]
+    assert coefficients(vehs.identify(x + 0.3, dt=0.01, **dict(options, detrend="none"))[0])["drift"] != owned["drift"]
+
+
+def test_diagnose_reads_a_viewed_array_as_it_reads_the_library_records():
+    sim = vehs.simulate(MODEL, trajectories=4, duration=100, dt=0.01, seed=8)
+    fitted, _ = vehs.identify(sim, drift_library=["x", "x^3", "y"], diffusion_library=["1"], sparsity="none")
+    x = np.array(sim.x)
+    assert vehs.as_records(x, dt=0.01)._core.is_view("x")
+    a = vehs.diagnose(fitted, sim, replicates=2, seed=1)
+    b = vehs.diagnose(fitted, x, dt=0.01, replicates=2, seed=1)
+    assert (b.verdict, b.score, b.suspects) == (a.verdict, a.score, a.suspects)

@@ -88,7 +88,7 @@ def test_identify_with_the_likelihood_and_its_input_gives_the_cli_model(tmp_path
             assert d[part][term] == c, (part, term)  # the same records, the same code: bitwise
             assert d["stderr"][part][term] == ref["stderr"][part][term], (part, term)
     assert d["likelihood"]["log_likelihood"] == ref["likelihood"]["log_likelihood"]
-    # the same fit from plain arrays (x and u copied once into the library)
+    # the same fit from plain arrays (x and u: C-contiguous float64, read in place)
     model2, _ = vehs.identify(records.x, dt=0.25, u=records.u, **keys)
     assert model2.to_dict()["drift"] == d["drift"]
 
