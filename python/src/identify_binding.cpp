@@ -17,7 +17,8 @@ namespace vehs::python {
 namespace {
 
 /// The records to work on: `records` itself, or with detrend "mean" a copy without the record
-/// means (the caller's arrays stay as they are).
+/// means (subtract_record_means copies columns that view a NumPy array: the caller's arrays stay
+/// as they are).
 std::shared_ptr<const Dataset> detrended(const Records& records, const tools::Config& c) {
   const std::string detrend = c.string_or("detrend", "none");
   if (detrend == "none") return records.data;
