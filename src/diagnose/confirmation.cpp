@@ -84,7 +84,8 @@ struct Refit {
   std::vector<double> record_phases;  ///< harmonic phase per training record (empty: shared)
 };
 
-Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const Effect* added) {
+Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const Effect* added,
+               bool added_per_record = false) {
   identify::Options io = refit_options(model, lens);
   if (added) io.effects.push_back(*added);
   Refit out;
@@ -102,7 +103,7 @@ Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const
   ro.covariance = likelihood::Covariance::Fisher;
   ro.estimate_measurement_noise = lf.measurement_sd > 0.0;
   ro.measurement_sd_start = lf.measurement_sd;
-  ro.per_record_phase = !phases.empty();  // a phase per record, started at the model's
+  ro.per_record_phase = !phases.empty() || added_per_record;  // started at the model's, or scanned
   const likelihood::Result r = likelihood::refine({out.model, lf.measurement_sd, phases}, train, ro);
   const std::optional<FitInfo> fit = out.model.fit;
   out.model = r.model.model;
@@ -262,6 +263,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
     if (static_cast<int>(rep.effects.size()) >= o.max_effects) break;
     Confirmation c;
     c.effect = enum_to_string(kEffectNames, cand.id);
+    c.per_record_phase = cand.per_record_phase;
     c.evidence = cand.evidence;
     try {
       const Suspect* h = likelihood_fit ? nullptr : heldout_of(cand.id);
@@ -269,7 +271,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
       PieceScores with;
       if (likelihood_fit || rep.driven) {
         const Effect added{cand.id, {}, {}};
-        const Refit r = refit_on(model, lens, split.train, &added);
+        const Refit r = refit_on(model, lens, split.train, &added, cand.per_record_phase);
         fill_params(c, r.model, cand.id);
         with = score_pieces(r, split, input, likelihood_fit, rep.driven, o.free_run_skip);
       } else {

@@ -317,7 +317,9 @@ std::pair<ScoreSuspect, ScoreSuspect> forcing_scans(const Context& c) {
   const double stat_local = incoherent[kl];
   fill(local, kl, stat_local, 2.0 * R, "sum over records of the whitened innovations' periodograms, one phase per record (chi2, " +
                                            std::to_string(int(2 * R)) + " dof)");
-  shared.add = local.add = add_fragment("harmonic_forcing");
+  shared.add = add_fragment("harmonic_forcing");
+  // identify fits one phase per record only by the likelihood, on request
+  local.add = R"({"effects": ["harmonic_forcing"], "likelihood": {"per_record_phase": true}})";
   // the excess over the null mean, as a signal-to-noise measure (whitened units)
   shared.params["excess_snr"] = std::max(0.0, stat_shared - 2.0);
   local.params["excess_snr"] = std::max(0.0, stat_local - 2.0 * R);
