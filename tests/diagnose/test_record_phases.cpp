@@ -103,3 +103,40 @@ TEST_CASE("diagnose: a model with one harmonic phase per record is judged with e
   fewer.x.resize(fewer.records.back().offset + fewer.records.back().size);
   CHECK_THROWS_WITH(vehs::diagnose::diagnose(truth, fewer, o), Catch::Contains("one harmonic_forcing phase per record for 12 records"));
 }
+
+TEST_CASE("diagnose: a missing forcing with one phase per record is named, refitted and recommended so",
+          "[diagnose][record_phases]") {
+  std::mt19937_64 g(vehs_test::seed(43));
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<double> phases(12);
+  for (std::size_t r = 0; r < phases.size(); ++r) phases[r] = -M_PI + 2.0 * M_PI * (double(r) + U(g)) / 12.0;
+  std::shuffle(phases.begin(), phases.end(), g);
+  const vehs::Dataset d = own_phases(phases, 43);
+  // the baseline: the true terms without the forcing, as a likelihood fit without sensor noise
+  vehs::Model base = model_of(R"({"drift": {"x": 1.0, "x^3": -1.0, "y": -0.1}, "diffusion": {"1": 0.03}})");
+  base.fit = vehs::FitInfo{};
+  base.fit->likelihood = vehs::LikelihoodFit{};
+  auto o = fast_options(5);
+  o.fpk = false;
+  o.suspects.enabled = false;
+  o.score_suspects.grid = 3;
+  o.score_suspects.enabled = true;  // as diagnose-vehs runs
+  o.confirm.enabled = true;
+  o.confirm.max_effects = 1;
+  const vehs::diagnose::Result r = vehs::diagnose::diagnose(base, d, o);
+  INFO(r.conclusion);
+  REQUIRE_FALSE(r.adequate());
+  REQUIRE_FALSE(r.score_suspects.ranked.empty());
+  vehs_test::tally("per-record suspect first", r.score_suspects.ranked[0].effect == "harmonic_forcing_per_record");
+  vehs_test::tally("per-record suspect z", r.score_suspects.ranked[0].z);
+  CHECK(r.score_suspects.ranked[0].effect == "harmonic_forcing_per_record");
+  REQUIRE(r.confirmation.ran);
+  REQUIRE_FALSE(r.confirmation.effects.empty());
+  const auto& c = r.confirmation.effects[0];
+  vehs_test::tally("per-record refit loglik z", c.loglik_z);
+  CHECK(c.effect == "harmonic_forcing");
+  CHECK(c.per_record_phase);
+  CHECK(c.confirmed);
+  REQUIRE_FALSE(r.recommended.empty());
+  CHECK(r.recommended.front() == "harmonic_forcing");
+}
