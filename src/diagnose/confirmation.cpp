@@ -17,6 +17,7 @@
 #include "vehs/identify/identify.hpp"
 #include "vehs/likelihood/filter.hpp"
 #include "vehs/likelihood/free_run.hpp"
+#include "vehs/likelihood/record_phase_start.hpp"
 #include "vehs/likelihood/refine.hpp"
 
 namespace vehs::diagnose {
@@ -92,19 +93,22 @@ Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const
   out.model = identify::identify(train, io).model;
   out.measurement_sd = lens.sensor_noise_sd;
   if (!model.fit || !model.fit->likelihood) return out;
+  // the model was refined by maximum likelihood: so is the refit (support fixed)
+  const LikelihoodFit& lf = *model.fit->likelihood;
   const std::vector<double> phases = leading_record_phases(model, train.records.size(), "confirmation");
   if (!phases.empty())  // identify's moment fit has one shared phase: start from the model's forcing
     for (Effect& e : out.model.effects)
       if (e.id == EffectId::HarmonicForcing) e.params = model.find_effect(EffectId::HarmonicForcing)->params;
-  // the model was refined by maximum likelihood: so is the refit (support fixed)
-  const LikelihoodFit& lf = *model.fit->likelihood;
+  likelihood::ObservedModel start{out.model, lf.measurement_sd, phases};
+  if (phases.empty() && added_per_record)  // each record's own moment fit: its phase (as identify-vehs)
+    likelihood::start_record_phases(start, train, [&](const Dataset& one) { return identify::identify(one, io).model; });
   likelihood::RefineOptions ro;
   ro.filter.input = model.fit->input;
   ro.covariance = likelihood::Covariance::Fisher;
   ro.estimate_measurement_noise = lf.measurement_sd > 0.0;
   ro.measurement_sd_start = lf.measurement_sd;
-  ro.per_record_phase = !phases.empty() || added_per_record;  // started at the model's, or scanned
-  const likelihood::Result r = likelihood::refine({out.model, lf.measurement_sd, phases}, train, ro);
+  ro.per_record_phase = !start.record_phases.empty();
+  const likelihood::Result r = likelihood::refine(start, train, ro);
   const std::optional<FitInfo> fit = out.model.fit;
   out.model = r.model.model;
   out.model.fit = fit;

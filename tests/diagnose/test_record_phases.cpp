@@ -123,6 +123,7 @@ TEST_CASE("diagnose: a missing forcing with one phase per record is named, refit
   o.score_suspects.enabled = true;  // as diagnose-vehs runs
   o.confirm.enabled = true;
   o.confirm.max_effects = 1;
+  o.confirm.blocks = 24;  // two pieces per record: a steadier block z than the default 8
   const vehs::diagnose::Result r = vehs::diagnose::diagnose(base, d, o);
   INFO(r.conclusion);
   REQUIRE_FALSE(r.adequate());
