@@ -42,6 +42,17 @@ vehs::Dataset own_phases(const std::vector<double>& phases, std::uint64_t seed) 
   return out;
 }
 
+/// 12 phases spread over the circle (each jittered within its twelfth, order shuffled), so that
+/// a shared phase is wrong for most records at every seed.
+std::vector<double> spread_phases(std::uint64_t seed) {
+  std::mt19937_64 g(vehs_test::seed(seed));
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<double> phases(12);
+  for (std::size_t r = 0; r < phases.size(); ++r) phases[r] = -M_PI + 2.0 * M_PI * (double(r) + U(g)) / 12.0;
+  std::shuffle(phases.begin(), phases.end(), g);
+  return phases;
+}
+
 double min_p(const vehs::diagnose::Result& r) {
   double p = 1.0;
   for (const auto& c : r.components)
@@ -53,13 +64,7 @@ double min_p(const vehs::diagnose::Result& r) {
 
 TEST_CASE("diagnose: a model with one harmonic phase per record is judged with each record's phase",
           "[diagnose][record_phases]") {
-  std::mt19937_64 g(vehs_test::seed(41));
-  // phases spread over the circle (each jittered within its twelfth, order shuffled), so that a
-  // shared phase is wrong for most records at every seed
-  std::uniform_real_distribution<double> U(0.0, 1.0);
-  std::vector<double> phases(12);
-  for (std::size_t r = 0; r < phases.size(); ++r) phases[r] = -M_PI + 2.0 * M_PI * (double(r) + U(g)) / 12.0;
-  std::shuffle(phases.begin(), phases.end(), g);
+  const std::vector<double> phases = spread_phases(41);
   const vehs::Dataset d = own_phases(phases, 41);
   vehs::Model truth = forced(0.0);
   truth.fit = vehs::FitInfo{};
@@ -106,11 +111,7 @@ TEST_CASE("diagnose: a model with one harmonic phase per record is judged with e
 
 TEST_CASE("diagnose: a missing forcing with one phase per record is named, refitted and recommended so",
           "[diagnose][record_phases]") {
-  std::mt19937_64 g(vehs_test::seed(43));
-  std::uniform_real_distribution<double> U(0.0, 1.0);
-  std::vector<double> phases(12);
-  for (std::size_t r = 0; r < phases.size(); ++r) phases[r] = -M_PI + 2.0 * M_PI * (double(r) + U(g)) / 12.0;
-  std::shuffle(phases.begin(), phases.end(), g);
+  const std::vector<double> phases = spread_phases(43);
   const vehs::Dataset d = own_phases(phases, 43);
   // the baseline: the true terms without the forcing, as a likelihood fit without sensor noise
   vehs::Model base = model_of(R"({"drift": {"x": 1.0, "x^3": -1.0, "y": -0.1}, "diffusion": {"1": 0.03}})");
