@@ -31,7 +31,7 @@ vehs::Dataset records(const std::vector<double>& t0s) {
     r.dt = 0.1;
     r.offset = d.x.size();
     r.size = 3;
-    d.x.insert(d.x.end(), {0.0, 0.1, 0.2});
+    d.x.values().insert(d.x.values().end(), {0.0, 0.1, 0.2});
     d.records.push_back(r);
   }
   return d;
