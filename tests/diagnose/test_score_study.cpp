@@ -100,6 +100,11 @@ LoopCheck run_loop(const HiddenCase& hc, const Dataset& d, const Outcome& o, std
   std::snprintf(buf, sizeof buf, "baseline %s score %.3g, refit %s score %.3g;", r0.adequate() ? "adequate" : "inadequate",
                 r0.score, r1.adequate() ? "adequate" : "inadequate", r1.score);
   c.text = buf;
+  for (const auto& comp : r1.components)  // what the refit fails
+    if (comp.test.available && comp.test.p_value < r1.threshold) {
+      std::snprintf(buf, sizeof buf, " [fails %s p %.2g]", comp.name.c_str(), comp.test.p_value);
+      c.text += buf;
+    }
   for (const auto& [name, truth] : f.truth) {
     if (!f.value.count(name) || !f.stderr_.count(name)) continue;  // e.g. a gap_neg the truth shares with gap
     const double est = f.value.at(name), se = f.stderr_.at(name);
