@@ -5,6 +5,7 @@
 // statistics of data and twins → tests (one-step map, paired components with the model's
 // parameter uncertainty, residual lines) → quantities and curves → FPK reference → suspects →
 // verdict → confirmation of close contenders.
+#include <array>
 #include <chrono>
 #include <memory>
 #include <optional>
@@ -45,6 +46,10 @@ struct SamplingChoice {
 /// Reads the model's fit, runs the data's own sampling diagnosis, chooses the lens; fills
 /// res.sampling, res.lens and warnings. Throws when the model was fitted at another interval.
 SamplingChoice choose_sampling_and_lens(const Model& model, const Dataset& data, const Options& opt, Result& res);
+/// The autocovariance at lags 0…3 of the model's coloured excitation as the central lens at step
+/// h sees it (zero without colored_noise): taken out of the model's residuals before they are read
+/// for sensor noise.
+std::array<double, 4> colored_autocovariance(const Model& model, double h);
 
 // ---- units (units.cpp)
 

@@ -90,13 +90,18 @@ void conclude(Result& res, bool confirmed_by_refits) {
                      (confirmed_by_refits ? " (not confirmed by refits: " + c.note + ")" : "");
     return;
   }
-  std::vector<std::string> details;
+  std::vector<const Confirmation*> confirmed;  // the largest held-out gain first (the order of confirm_jointly)
   for (const Confirmation& e : c.effects)
-    if (e.confirmed) {
-      res.recommended.push_back(e.effect);
-      details.push_back(e.effect + (e.per_record_phase ? " with one phase per record" : "") + " (" +
-                        e.reason.substr(e.reason.find(':') + 2) + ")");
-    }
+    if (e.confirmed) confirmed.push_back(&e);
+  std::stable_sort(confirmed.begin(), confirmed.end(), [](const Confirmation* a, const Confirmation* b) {
+    return a->loglik_gain > b->loglik_gain || (std::isnan(b->loglik_gain) && !std::isnan(a->loglik_gain));
+  });
+  std::vector<std::string> details;
+  for (const Confirmation* e : confirmed) {
+    res.recommended.push_back(e->effect);
+    details.push_back(e->effect + (e->per_record_phase ? " with one phase per record" : "") + " (" +
+                      e->reason.substr(e->reason.find(':') + 2) + ")");
+  }
   if (!res.recommended.empty()) {
     res.conclusion = "inadequate — add " + join(details, "; ");
     return;

@@ -85,10 +85,10 @@ struct Refit {
   std::vector<double> record_phases;  ///< harmonic phase per training record (empty: shared)
 };
 
-Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const Effect* added,
+Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const std::vector<Effect>& added,
                bool added_per_record = false) {
   identify::Options io = refit_options(model, lens);
-  if (added) io.effects.push_back(*added);
+  io.effects.insert(io.effects.end(), added.begin(), added.end());
   Refit out;
   out.model = identify::identify(train, io).model;
   out.measurement_sd = lens.sensor_noise_sd;
@@ -217,6 +217,57 @@ void fill_params(Confirmation& c, const Model& m, EffectId id) {
   if (const Effect* e = m.find_effect(id)) c.params = e->params, c.params_stderr = e->stderr_;
 }
 
+/// Effects confirmed one at a time can be one explanation twice (a y³ damping absorbs part of a
+/// hidden Coulomb friction: both improve on the baseline). The one with the largest held-out
+/// gain stays confirmed; each further one, in the order of its gain, must improve on the refit
+/// with those kept before it by the same criterion, else it is not confirmed ("adds nothing
+/// beyond …"). Needs the filter's criterion (a model fitted by the likelihood).
+void confirm_jointly(ConfirmationReport& rep, const std::vector<PieceScores>& alone_scores, const Model& model,
+                     const Lens& lens, const Split& split, InputInterpolation input, const ConfirmationOptions& o) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < rep.effects.size(); ++i)
+    if (rep.effects[i].confirmed) order.push_back(i);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return rep.effects[a].loglik_gain > rep.effects[b].loglik_gain; });
+  if (order.size() < 2) return;
+  std::vector<Effect> kept{Effect{enum_from_string(kEffectNames, rep.effects[order[0]].effect, "effect"), {}, {}}};
+  std::string kept_names = rep.effects[order[0]].effect;
+  PieceScores kept_scores = alone_scores[order[0]];
+  bool per_record = rep.effects[order[0]].per_record_phase;  // a kept forcing with one phase per record
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    Confirmation& c = rep.effects[order[k]];
+    const std::string alone = c.reason.substr(c.reason.find(':') + 2);
+    const EffectId id = enum_from_string(kEffectNames, c.effect, "effect");
+    if (std::any_of(kept.begin(), kept.end(), [&](const Effect& e) { return e.id == id; })) {
+      c.confirmed = false;  // the shared and the per-record forcing: one form is kept
+      c.reason = "not confirmed: the other form of " + c.effect + " is kept (alone: " + alone + ")";
+      continue;
+    }
+    std::vector<Effect> with_effects = kept;
+    with_effects.push_back(Effect{id, {}, {}});
+    Confirmation joint;
+    try {
+      PieceScores with = score_pieces(refit_on(model, lens, split.train, with_effects, per_record || c.per_record_phase),
+                                      split, input, true, rep.driven, o.free_run_skip);
+      with.trace = {};
+      judge(joint, kept_scores, with, nullptr, rep.driven, o.z_threshold);
+      if (joint.confirmed) {
+        c.reason = "confirmed: " + alone + "; beyond " + kept_names + ": " + joint.reason.substr(joint.reason.find(':') + 2);
+        kept = std::move(with_effects);
+        kept_names += " and " + c.effect;
+        kept_scores = std::move(with);
+        per_record = per_record || c.per_record_phase;
+        continue;
+      }
+      c.reason = "not confirmed: adds nothing beyond " + kept_names + " (" + joint.reason.substr(joint.reason.find(':') + 2) +
+                 "; alone: " + alone + ")";
+    } catch (const std::exception& e) {
+      c.reason = "not confirmed: the refit with " + kept_names + " failed: " + e.what() + " (alone: " + alone + ")";
+    }
+    c.confirmed = false;
+  }
+}
+
 }  // namespace
 
 ConfirmationReport confirm_effects(const Model& model, const Dataset& data, const Lens& lens,
@@ -251,7 +302,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
   PieceScores base;
   try {
     if (likelihood_fit || rep.driven)
-      base = score_pieces(refit_on(model, lens, split.train, nullptr), split, input, likelihood_fit, rep.driven,
+      base = score_pieces(refit_on(model, lens, split.train, {}), split, input, likelihood_fit, rep.driven,
                           o.free_run_skip);
   } catch (const std::exception& e) {
     rep.note = std::string("the baseline refit on the training part failed: ") + e.what();
@@ -263,6 +314,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
   // the filter's innovations describe the misfit of a model fitted by the likelihood (a moment
   // fit to scheme-consistent data is not the continuous-time model the filter assumes)
   if (likelihood_fit) rep.residuals = residual_signature(split.held, base.trace, lens.dt);
+  std::vector<PieceScores> alone_scores;  // per candidate, when refitted (the filter's trace dropped)
   for (const Candidate& cand : candidates) {
     if (static_cast<int>(rep.effects.size()) >= o.max_effects) break;
     Confirmation c;
@@ -274,8 +326,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
       if (!likelihood_fit && !h) throw Error("no held-out evidence (the held-out suspects did not test it)");
       PieceScores with;
       if (likelihood_fit || rep.driven) {
-        const Effect added{cand.id, {}, {}};
-        const Refit r = refit_on(model, lens, split.train, &added, cand.per_record_phase);
+        const Refit r = refit_on(model, lens, split.train, {Effect{cand.id, {}, {}}}, cand.per_record_phase);
         fill_params(c, r.model, cand.id);
         with = score_pieces(r, split, input, likelihood_fit, rep.driven, o.free_run_skip);
       } else {
@@ -288,12 +339,16 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
       if (const std::string why = effect_domain_violation(Effect{cand.id, c.params, {}}); !why.empty())
         throw Error("the refit puts " + why);
       judge(c, base, with, h, rep.driven, o.z_threshold);
+      with.trace = {};
+      alone_scores.push_back(std::move(with));
     } catch (const std::exception& e) {
       c.error = e.what();
       c.reason = std::string("not confirmed: the refit failed: ") + e.what();
+      alone_scores.emplace_back();
     }
     rep.effects.push_back(std::move(c));
   }
+  if (likelihood_fit) confirm_jointly(rep, alone_scores, model, lens, split, input, o);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }

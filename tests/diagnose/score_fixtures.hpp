@@ -49,7 +49,18 @@ struct HiddenCase {
   int records = 32;
   std::size_t samples = 4000;
   double dt = 0.05;
+  double sensor_noise_share = 0.0;  ///< white sensor noise, share of std(x) (coarse shape)
 };
+
+/// The coarse shape of issue 13's power study (VEHS_SCORE_COARSE=1): the same records sampled at
+/// Δt 0.35 (ω·Δt ≈ 0.5; the same duration, 1/7 of the samples) with white sensor noise of 2 % of
+/// std(x); the baseline and the oracle then fitted by the likelihood with the measurement noise.
+inline HiddenCase coarse(HiddenCase c) {
+  c.samples = static_cast<std::size_t>(std::lround(double(c.samples) * c.dt / 0.35));
+  c.dt = 0.35;
+  c.sensor_noise_share = 0.02;
+  return c;
+}
 
 inline vehs::Model truth_of(const HiddenCase& c, double phase = 0.0) {
   std::string drift = potential_terms(c.potential) + ", \"y\": " + std::to_string(-c.beta);
@@ -163,6 +174,16 @@ inline vehs::sim::SimulationOptions sampling_of(const HiddenCase& c, std::uint64
 /// The records of a hidden case: one simulation per record when the phase is random per record.
 inline vehs::Dataset hidden_data(const HiddenCase& c, std::uint64_t seed) {
   vehs::sim::SimulationOptions o = sampling_of(c, seed);
+  if (c.sensor_noise_share > 0.0) {  // 2 % of std(x) of a noise-free pilot of 4 records
+    HiddenCase clean = c;
+    clean.sensor_noise_share = 0.0;
+    clean.records = 4;
+    const vehs::Dataset pilot = hidden_data(clean, seed + 1000003);
+    double m = 0.0, q = 0.0;
+    for (double x : pilot.x) m += x, q += x * x;
+    m /= double(pilot.x.size());
+    o.sensor_noise = c.sensor_noise_share * std::sqrt(q / double(pilot.x.size()) - m * m);
+  }
   if (!c.phase_per_record) return vehs::sim::simulate(truth_of(c), o);
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> phase(0.0, 2.0 * M_PI);

@@ -38,7 +38,7 @@ inline std::string describe(const vehs::diagnose::ScoreSuspectReport& r) {
 inline double oracle_z(const HiddenCase& hc, const vehs::Dataset& d) {
   vehs::likelihood::ObservedModel start{truth_of(hc), 0.0, {}};
   vehs::likelihood::RefineOptions o;
-  o.estimate_measurement_noise = false;
+  o.estimate_measurement_noise = hc.sensor_noise_share > 0.0;
   o.per_record_phase = hc.phase_per_record;
   const vehs::likelihood::Result r = vehs::likelihood::refine(start, d, o);
   const int i = r.find(oracle_parameter(hc));
@@ -46,9 +46,12 @@ inline double oracle_z(const HiddenCase& hc, const vehs::Dataset& d) {
   return std::abs(r.values[std::size_t(i)] / r.stderrs[std::size_t(i)]);
 }
 
-/// The baseline identify fits and its score suspects (wall time).
+/// The baseline identify fits and its score suspects (wall time). With sensor noise (the coarse
+/// shape) the baseline is refined by the likelihood with its measurement noise, as identify-vehs
+/// does at coarse sampling.
 struct Outcome {
   vehs::Model baseline;
+  double measurement_sd = 0.0;
   vehs::diagnose::ScoreSuspectReport report;
   double seconds = 0.0;
 };
@@ -57,8 +60,18 @@ inline Outcome run_case(const HiddenCase& hc, const vehs::Dataset& d,
                         const vehs::diagnose::ScoreSuspectOptions& options = {}) {
   Outcome o;
   o.baseline = vehs::identify::identify(d, baseline_options_for(hc)).model;
+  if (hc.sensor_noise_share > 0.0) {
+    vehs::likelihood::RefineOptions ro;
+    ro.estimate_measurement_noise = true;
+    const vehs::likelihood::Result r = vehs::likelihood::refine({o.baseline, 0.0, {}}, d, ro);
+    vehs::FitInfo fit = o.baseline.fit ? *o.baseline.fit : vehs::FitInfo{};
+    fit.likelihood = vehs::LikelihoodFit{};
+    fit.likelihood->measurement_sd = o.measurement_sd = r.model.measurement_sd;
+    o.baseline = r.model.model;
+    o.baseline.fit = fit;
+  }
   const auto t0 = std::chrono::steady_clock::now();
-  o.report = vehs::diagnose::score_suspects(o.baseline, d, 0.0, options);
+  o.report = vehs::diagnose::score_suspects(o.baseline, d, o.measurement_sd, options);
   o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return o;
 }

@@ -184,6 +184,13 @@ std::string failing(const vehs::diagnose::Result& r) {
   return s;
 }
 
+/// diagnose's warning about a model without a likelihood fit at coarse sampling.
+bool warns_bare_coarse(const vehs::diagnose::Result& r) {
+  for (const auto& w : r.warnings)
+    if (w.find("no likelihood fit") != std::string::npos) return true;
+  return false;
+}
+
 /// The model identify-vehs writes at coarse sampling: the moment fit on the true model's terms,
 /// refined by the likelihood (its measurement noise estimated where the data have noise), the
 /// refinement recorded in the fit information as the tool does (VEHS_CAL_FIT=1).
@@ -260,6 +267,7 @@ TEST_CASE("calibration matrix: short records, scheme-consistent and continuous-t
       o.fpk = false;
       const auto r = vehs::diagnose::diagnose(bistable(), d, o);
       UNSCOPED_INFO(s.name << " seed " << k << ": " << (r.adequate() ? "adequate" : "INADEQUATE") << failing(r));
+      CHECK_FALSE(warns_bare_coarse(r));  // fine sampling: ω̂·Δt ≤ 0.07
       adequate += r.adequate();
       ++runs;
     }
@@ -292,7 +300,24 @@ TEST_CASE("calibration matrix: coarse sampling, continuous-time with sensor nois
       UNSCOPED_INFO(s.name << " seed " << k << ": " << (r.adequate() ? "adequate" : "INADEQUATE") << failing(r));
       adequate += r.adequate();
       ++runs;
+      CHECK_FALSE(warns_bare_coarse(r));  // the likelihood fit states its measurement noise
     }
+  }
+  // the same model written without its likelihood fit (VEHS_CAL_BARE: adequate 0 of 10 at dt 0.7
+  // with noise) is warned about: ω̂·Δt ≈ 1 there against the warning's 0.2 (deterministic margin)
+  {
+    Shape s{};
+    for (const Shape& c : shapes())
+      if (c.name == "8 x 2857, dt 0.7, coarse continuous, 2 % noise") s = c;
+    REQUIRE(s.records == 8);
+    const ShapeData d = shape_data(s, 7101);
+    auto o = fast_options(1);
+    o.suspects.enabled = false;
+    o.fpk = false;
+    o.score_suspects.enabled = false;
+    const auto r = vehs::diagnose::diagnose(truth_of(s), d.data, o);
+    INFO(s.name);
+    CHECK(warns_bare_coarse(r));
   }
   CHECK(runs == 25);
   CHECK(adequate >= vehs_test::binomial_floor(25, 0.96));

@@ -12,6 +12,9 @@
 //   VEHS_SCORE_SEEDS=10 VEHS_SCORE_CASE=a,b build/tests/test_diagnose "[.score_study]"
 // VEHS_SCORE_SEED0=k: seeds k … k + SEEDS − 1; VEHS_SCORE_LOOP=0: no loop (power only);
 // VEHS_SCORE_RECORDS=n: n records instead of the case's (all of them tested: no sample cap).
+// VEHS_SCORE_ORACLE=0: no oracle refit (its z printed as 0; impact_stop's costs 50–70 s a seed).
+// VEHS_SCORE_COARSE=1: the coarse shape (score_fixtures.hpp: coarse(); Δt 0.35, 2 % sensor
+// noise, likelihood-fitted baseline), power only (the loop refits by moments).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -100,6 +103,11 @@ LoopCheck run_loop(const HiddenCase& hc, const Dataset& d, const Outcome& o, std
   std::snprintf(buf, sizeof buf, "baseline %s score %.3g, refit %s score %.3g;", r0.adequate() ? "adequate" : "inadequate",
                 r0.score, r1.adequate() ? "adequate" : "inadequate", r1.score);
   c.text = buf;
+  for (const auto& comp : r1.components)  // what the refit fails
+    if (comp.test.available && comp.test.p_value < r1.threshold) {
+      std::snprintf(buf, sizeof buf, " [fails %s p %.2g]", comp.name.c_str(), comp.test.p_value);
+      c.text += buf;
+    }
   for (const auto& [name, truth] : f.truth) {
     if (!f.value.count(name) || !f.stderr_.count(name)) continue;  // e.g. a gap_neg the truth shares with gap
     const double est = f.value.at(name), se = f.stderr_.at(name);
@@ -118,8 +126,9 @@ LoopCheck run_loop(const HiddenCase& hc, const Dataset& d, const Outcome& o, std
 TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusion matrix (bench)", "[.score_study]") {
   const int seeds = env_int("VEHS_SCORE_SEEDS", 2);
   const int first_seed = env_int("VEHS_SCORE_SEED0", 0);
-  const bool loop = env_int("VEHS_SCORE_LOOP", 1) != 0;
+  const bool loop = env_int("VEHS_SCORE_LOOP", 1) != 0 && env_int("VEHS_SCORE_COARSE", 0) == 0;
   const int records = env_int("VEHS_SCORE_RECORDS", 0);
+  const bool with_oracle_fit = env_int("VEHS_SCORE_ORACLE", 1) != 0;
   const char* which = std::getenv("VEHS_SCORE_CASE");
   const std::string only = which ? std::string(which) + "," : "";
   diagnose::ScoreSuspectOptions so;
@@ -128,6 +137,7 @@ TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusio
   for (HiddenCase hc : hidden_cases()) {
     if (!only.empty() && only.find(hc.name + ",") == std::string::npos) continue;
     if (records > 0) hc.records = records;
+    if (env_int("VEHS_SCORE_COARSE", 0) != 0) hc = coarse(hc);
     const bool control = hc.name.rfind("none", 0) == 0;
     int first_significant = 0, alone = 0, claimed = 0, looped = 0, held = 0, adequate = 0, halved = 0, in_se = 0,
         in_15 = 0;
@@ -139,7 +149,7 @@ TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusio
       double oracle = 0.0;  // 0: control, or the oracle's likelihood refit failed (its seed is left out of z/oracle)
       std::string oracle_failure;
       try {
-        if (!control) oracle = oracle_z(hc, d);
+        if (!control && with_oracle_fit) oracle = oracle_z(hc, d);
       } catch (const std::exception& e) {
         oracle_failure = e.what();
       }

@@ -31,6 +31,12 @@
 //    their spread (block_z). Confirmed: every criterion improves by more than z_threshold
 //    standard errors. A refit that fails (an estimate outside the catalogue's domain, a filter
 //    or free run that diverges) is not confirmed, with the reason.
+//  * one explanation counted once (a model fitted by the likelihood): effects confirmed one at a
+//    time may share it — a y³ damping absorbs part of a hidden Coulomb friction, so both improve
+//    on the baseline. The one with the largest held-out gain stays confirmed; every further one,
+//    in the order of its gain, is refitted together with those kept before it and must improve
+//    on their refit by the same criterion, else it is not confirmed ("adds nothing beyond …" in
+//    its reason, with its gain alone).
 //
 // For a model fitted by maximum likelihood, the baseline's held-out innovations (the filter's
 // standardised prediction errors) also say what the misfit looks like when no catalogue effect

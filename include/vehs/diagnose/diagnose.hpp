@@ -223,7 +223,8 @@ struct Result {
   SuspectReport suspects;
   ScoreSuspectReport score_suspects;
   ConfirmationReport confirmation;
-  /// The effects diagnose recommends adding: with Options::confirm, the confirmed ones; without
+  /// The effects diagnose recommends adding: with Options::confirm, the confirmed ones (the
+  /// largest held-out gain first); without
   /// it, every significant suspect (score tests, then held-out). Empty for an adequate model.
   std::vector<std::string> recommended;
   /// Inadequate at a significance far beyond the threshold (smallest component p below
