@@ -9,20 +9,26 @@
 #include <Eigen/Core>
 
 #include "vehs/core/error.hpp"
+#include "vehs/likelihood/signals.hpp"
 #include "vehs/likelihood/detail/evaluator.hpp"
 #include "vehs/likelihood/detail/selection.hpp"
 #include "vehs/sim/simulate.hpp"
 
 namespace vehs::likelihood::detail {
 
-Dataset simulate_like(const ObservedModel& model, const Dataset& data, int substeps, std::uint64_t seed) {
+Dataset simulate_like(const ObservedModel& model, const Dataset& data, int substeps, std::uint64_t seed,
+                      InputInterpolation input) {
   const double dt = data.common_dt();
   std::size_t n = 0;
   for (const Record& r : data.records) n = std::max(n, r.size);
+  // an interpolated input (as the filter applies it) is held per fine step of dt/substeps, at
+  // each step's midpoint; every substeps-th sample is kept (as simulate-vehs does)
+  const bool fine = input != InputInterpolation::ZeroOrderHold && data.has_u();
+  const std::size_t keep = fine ? std::size_t(substeps) : 1;
   sim::SimulationOptions so;
-  so.dt = dt;
-  so.substeps = substeps;
-  so.samples = n;
+  so.dt = dt / double(keep);
+  so.substeps = fine ? 1 : substeps;
+  so.samples = (n - 1) * keep + 1;
   so.records = int(data.records.size());
   so.scheme = sim::Scheme::Taylor15;
   so.seed = seed;
@@ -36,7 +42,7 @@ Dataset simulate_like(const ObservedModel& model, const Dataset& data, int subst
     if (data.has_u()) {
       std::vector<double> u(data.u_of(r), data.u_of(r) + r.size);
       u.resize(n, u.back());
-      so.drive_per_record.push_back(std::move(u));
+      so.drive_per_record.push_back(fine ? refine_input(u, substeps, input) : std::move(u));
     }
   }
   const Dataset s = sim::simulate(model.model, so);
@@ -44,9 +50,11 @@ Dataset simulate_like(const ObservedModel& model, const Dataset& data, int subst
   for (std::size_t i = 0; i < data.records.size(); ++i) {
     Record rec = s.records[i];
     rec.size = data.records[i].size;
+    rec.dt = dt;
     rec.offset = out.x.size();
-    out.x.insert(out.x.end(), s.x_of(s.records[i]), s.x_of(s.records[i]) + rec.size);
-    if (s.has_u()) out.u.insert(out.u.end(), s.u_of(s.records[i]), s.u_of(s.records[i]) + rec.size);
+    const double* x = s.x_of(s.records[i]);
+    for (std::size_t k = 0; k < rec.size; ++k) out.x.push_back(x[k * keep]);
+    if (data.has_u()) out.u.insert(out.u.end(), data.u_of(data.records[i]), data.u_of(data.records[i]) + rec.size);
     out.records.push_back(rec);
   }
   return out;
@@ -70,7 +78,8 @@ void correct_filter_bias(Result& res, const Dataset& data, const RefineOptions& 
   for (int b = 0; b < B; ++b) {
     Dataset sim_data;
     try {
-      sim_data = simulate_like(res.model, data, sim_substeps, o.bias_correction_seed + std::uint64_t(b));
+      sim_data = simulate_like(res.model, data, sim_substeps, o.bias_correction_seed + std::uint64_t(b),
+                               fo.input);
     } catch (const Error& e) {
       throw Error(where + ": cannot simulate the fitted model: " + e.what());
     }
@@ -105,6 +114,7 @@ void correct_filter_bias(Result& res, const Dataset& data, const RefineOptions& 
   attach_stderrs(res);
   res.summary.bias_correction_datasets = B;
   res.summary.bias_correction_max_se = max_shift_se;
+  res.summary.bias_correction_seed = o.bias_correction_seed;
   if (o.log) {
     char line[160];
     std::snprintf(line, sizeof line, "likelihood bias correction: %d simulated data sets, largest shift %.3g SE", B,
