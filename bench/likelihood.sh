@@ -16,7 +16,9 @@
 # bistable05,bistable05noise}; corrected_long_paper10noise (32 records, 10 seeds),
 # corrected_long16_paper10noise (128 records = 16x, 20 seeds, ~90 CPU s a seed: where "within 3 SE
 # and 5 %" tests the estimator, not the data length) and corrected_paper05noise_more (seeds 20-39)
-# are run on request (OMP_NUM_THREADS=1 nice -n 10).
+# are run on request (OMP_NUM_THREADS=1 nice -n 10). `z_long_paper`: are the SEs calibrated at
+# 32 records (the paper's model, omega_max*dt 1.0, no noise, seeds 10-29: long_paper has 0-9)?
+# sd of z with its 95 % interval, observed information and (VEHS_SECOND_COVARIANCE) sandwich.
 # VEHS_BENCH_LIKELIHOOD=path runs that binary (a copy, so that rebuilds cannot touch a study).
 # `narx` installs SysIdentPy (PyPI; an optional dependency of this benchmark only) into build/bench-venv and fits polynomial NARX models on the same Silverbox
 # split. Long: run under nice; the synthetic part takes about an hour on 2 cores.
@@ -74,6 +76,8 @@ for ((i = 0; i < ${#parts[@]}; ++i)); do
     corrected_paper05noise) run "$p" "$bench" synthetic paper 0.118 0.02 "${PAPER_SEEDS:-20}" 1000 "${RECORDS:-8}" 8 ;;
     corrected_long_paper10noise) run "$p" "$bench" synthetic paper 0.236 0.02 "${PAPER_SEEDS:-10}" 1000 32 8 ;;
     corrected_long16_paper10noise) run "$p" "$bench" synthetic paper 0.236 0.02 "${PAPER_SEEDS:-20}" 1000 128 8 ;;
+    z_long_paper) FIRST_SEED="${FIRST_SEED:-10}" VEHS_SECOND_COVARIANCE=sandwich \
+        run "$p" "$bench" synthetic paper 0.236 0 "${PAPER_SEEDS:-20}" 1000 32 ;;
     corrected_paper05noise_more) FIRST_SEED=20 run "$p" "$bench" synthetic paper 0.118 0.02 20 1000 8 8 ;;
     corrected_bistable10) run "$p" "$bench" synthetic bistable 0.7 0 "${SEEDS:-20}" 2000 "${RECORDS:-8}" 8 ;;
     corrected_bistable10noise) run "$p" "$bench" synthetic bistable 0.7 0.02 "${SEEDS:-20}" 2000 "${RECORDS:-8}" 8 ;;
