@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The likelihood benchmarks of issue 12, written to bench/results/likelihood_<part>.txt:
 #   bench/likelihood.sh [silverbox] [narx] [synthetic] [paper] [driven] [effects] [speed] [gaussian] [long]
-#                       [score] [innovations] [corrected]
-# (no argument: all but long). `paper` is paper10 paper10noise paper05 paper05noise (the paper's
+#                       [score] [innovations] [corrected] [silverbox_correction]
+# (no argument: silverbox narx synthetic paper driven effects speed gaussian). `silverbox_correction`: Silverbox with bias_correction 0 and
+# "auto", identify's CPU time and the RMSEs (bench/likelihood_silverbox_correction.sh). `paper` is paper10 paper10noise paper05 paper05noise (the paper's
 # model at omega_max*dt 1.0 and 0.5, without and with 2 % sensor noise), each its own results
 # file and part; `long` re-runs the omega*dt 1.0 cases with 4x the records (long_paper,
 # long_bistable): the per-parameter bias over the seeds when the SEs are well under 5 %;
@@ -44,6 +45,7 @@ for ((i = 0; i < ${#parts[@]}; ++i)); do
   p="${parts[$i]}"
   case "$p" in
     silverbox) run silverbox "$bench" silverbox data/silverbox/SNLS80mV.csv ;;
+    silverbox_correction) run "$p" bench/likelihood_silverbox_correction.sh ;;
     narx)
       venv="$build/bench-venv"
       [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
