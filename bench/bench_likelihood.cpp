@@ -142,7 +142,16 @@ void record_signed(SignedErrors& e, const likelihood::Result& r, const std::stri
   e[name].push_back({diff / r.stderrs[std::size_t(i)], diff / std::abs(truth)});
 }
 
-/// One line per parameter: mean z, sd of z, mean relative error ± its SE over the seeds, coverage.
+/// Quantile p of χ² with k degrees of freedom (Wilson–Hilferty; within 1 % of the exact
+/// quantile for k ≥ 5 at p = 0.025 and 0.975).
+double chi2_quantile(double k, double p) {
+  const double z = p < 0.5 ? -1.959964 : 1.959964;  // (only p = 0.025, 0.975 are used)
+  const double c = 2.0 / (9.0 * k);
+  return k * std::pow(1.0 - c + z * std::sqrt(c), 3.0);
+}
+
+/// One line per parameter: mean z, sd of z with its 95 % interval (calibrated SEs: sd 1; the
+/// interval from χ²_{n−1} for normal z), mean relative error ± its SE over the seeds, coverage.
 void print_bias(const std::string& label, const SignedErrors& params) {
   for (const auto& [name, list] : params) {
     const double n = double(list.size());
@@ -150,10 +159,36 @@ void print_bias(const std::string& label, const SignedErrors& params) {
     int cover = 0;
     for (const auto& [z, r] : list) mz += z / n, mr += r / n, cover += std::abs(z) <= 1.959964;
     for (const auto& [z, r] : list) sz += (z - mz) * (z - mz) / (n - 1), sr += (r - mr) * (r - mr) / (n - 1);
-    std::printf("  %-28s %-26s mean z %+6.2f (+-%.2f) sd z %5.2f  mean rel.err %+7.2f %% +- %5.2f %%  cover %d/%d\n",
-                label.c_str(), name.c_str(), mz, 1 / std::sqrt(n), std::sqrt(sz), 100 * mr, 100 * std::sqrt(sr / n), cover,
-                int(n));
+    const bool interval = n >= 6;  // (the approximation needs ≥ 5 degrees of freedom)
+    const double lo = interval ? std::sqrt(sz * (n - 1) / chi2_quantile(n - 1, 0.975)) : NAN;
+    const double hi = interval ? std::sqrt(sz * (n - 1) / chi2_quantile(n - 1, 0.025)) : NAN;
+    std::printf("  %-28s %-26s mean z %+6.2f (+-%.2f) sd z %5.2f [%4.2f, %4.2f]  mean rel.err %+7.2f %% +- %5.2f %%  "
+                "cover %d/%d\n",
+                label.c_str(), name.c_str(), mz, 1 / std::sqrt(n), std::sqrt(sz), lo, hi, 100 * mr,
+                100 * std::sqrt(sr / n), cover, int(n));
   }
+}
+
+/// `r` with the standard errors of another covariance choice (VEHS_SECOND_COVARIANCE): the
+/// estimate's support refitted without selection or correction from `r` (the same maximum),
+/// its SEs × √(1 + 1/B) when `r` was bias-corrected; the values stay r's.
+likelihood::Result with_other_stderrs(const likelihood::Result& r, const Dataset& d, likelihood::RefineOptions o,
+                                      const char* covariance) {
+  const int B = r.summary.bias_correction_datasets;
+  o.covariance = enum_from_string(likelihood::kCovarianceNames, covariance, "VEHS_SECOND_COVARIANCE");
+  o.select = false;
+  o.bias_correction_datasets = 0;
+  o.estimate_measurement_noise = r.find("measurement_sd") >= 0;
+  o.warm_start_samples = std::size_t(-1);  // (starts at the maximum: no warm start)
+  o.log = {};
+  const likelihood::Result r2 = likelihood::refine(r.model, d, o);
+  likelihood::Result out = r;
+  for (std::size_t i = 0; i < r.parameters.size(); ++i) {
+    const int j = r2.find(r.parameters[i].name);
+    out.stderrs[i] = j < 0 ? NAN : r2.stderrs[std::size_t(j)] * std::sqrt(B > 0 ? 1.0 + 1.0 / B : 1.0);
+  }
+  out.summary.covariance = r2.summary.covariance;
+  return out;
 }
 
 std::vector<Term> terms(std::initializer_list<const char*> names) {
@@ -178,8 +213,12 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
   std::printf("%-5s %-8s | %-6s %8s %-40s | %-6s %7s %7s %6s %7s %7s\n", "seed", "samples", "before", "rel.err", "before support",
               "exact", "max|z|", "rel.err", "cover", "seconds", "cpu");
   int exact = 0, within = 0, covered = 0, total = 0, before_exact = 0;
-  SignedErrors signed_errors;
+  SignedErrors signed_errors, second_errors;
   const int first = std::getenv("FIRST_SEED") ? std::atoi(std::getenv("FIRST_SEED")) : 0;  // seeds FIRST …
+  // VEHS_SECOND_COVARIANCE=sandwich|fisher|observed: z also with that choice's SEs (same estimates)
+  const char* second = std::getenv("VEHS_SECOND_COVARIANCE");
+  std::string second_method;
+  std::size_t fitted = 0;  // seeds recorded
   for (int s = first; s < first + seeds; ++s) {
     const std::uint64_t seed = 1000 + std::uint64_t(s);
     const double sd = sd_of(simulate(truth, dt, 2, T, seed, 0.0).x);
@@ -214,6 +253,20 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
     for (const auto& tc : truth.drift) record_signed(signed_errors, r, "drift[" + tc.term.name() + "]", tc.coef);
     for (const auto& tc : truth.diffusion) record_signed(signed_errors, r, "diffusion[" + tc.term.name() + "]", tc.coef);
     if (noise > 0) record_signed(signed_errors, r, "measurement_sd", noise);
+    if (second) {
+      const likelihood::Result r2 = with_other_stderrs(r, d, o, second);
+      second_method = r2.summary.covariance;
+      for (const auto& tc : truth.drift) record_signed(second_errors, r2, "drift[" + tc.term.name() + "]", tc.coef);
+      for (const auto& tc : truth.diffusion) record_signed(second_errors, r2, "diffusion[" + tc.term.name() + "]", tc.coef);
+      if (noise > 0) record_signed(second_errors, r2, "measurement_sd", noise);
+    }
+    ++fitted;
+    if (verbose)  // every seed's z (runs stopped early can still be summarised)
+      for (const auto* e : {&signed_errors, &second_errors})
+        for (const auto& [name, list] : *e)
+          if (list.size() == fitted)
+            std::fprintf(stderr, "z%s seed %d %s %+.4f rel %+.5f\n", e == &signed_errors ? "" : "2", s, name.c_str(),
+                         list.back().first, list.back().second);
     exact += ok_support;
     before_exact += same_support(before.model, truth);
     within += sc.max_z <= 3.0 && sc.max_rel <= 0.05;
@@ -232,6 +285,11 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
   std::printf("per parameter over seeds (measurement_sd: relative to its own truth, which varies by seed): mean z, sd of z, "
               "mean relative error +- its SE (the bias estimate), 95 %% coverage\n");
   print_bias(which, signed_errors);
+  if (second) {
+    std::printf("the same estimates with %s standard errors (VEHS_SECOND_COVARIANCE=%s; x sqrt(1 + 1/B) when corrected):\n",
+                second_method.c_str(), second);
+    print_bias(which, second_errors);
+  }
   std::printf("\n");
   return 0;
 }

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The likelihood benchmarks of issue 12, written to bench/results/likelihood_<part>.txt:
 #   bench/likelihood.sh [silverbox] [narx] [synthetic] [paper] [driven] [effects] [speed] [gaussian] [long]
-#                       [score] [innovations] [corrected]
-# (no argument: all but long). `paper` is paper10 paper10noise paper05 paper05noise (the paper's
+#                       [score] [innovations] [corrected] [silverbox_correction]
+# (no argument: silverbox narx synthetic paper driven effects speed gaussian). `silverbox_correction`: Silverbox with bias_correction 0 and
+# "auto", identify's CPU time and the RMSEs (bench/likelihood_silverbox_correction.sh). `paper` is paper10 paper10noise paper05 paper05noise (the paper's
 # model at omega_max*dt 1.0 and 0.5, without and with 2 % sensor noise), each its own results
 # file and part; `long` re-runs the omega*dt 1.0 cases with 4x the records (long_paper,
 # long_bistable): the per-parameter bias over the seeds when the SEs are well under 5 %;
@@ -13,8 +14,12 @@
 # by the predicted |x|); `corrected` runs the four conditions of each model with the bias
 # correction (RefineOptions::bias_correction_datasets = 8) at RECORDS records (default 8) per
 # seed: corrected_{paper10,paper10noise,paper05,paper05noise,bistable10,bistable10noise,
-# bistable05,bistable05noise}; corrected_long_paper10noise (32 records, 10 seeds) and
-# corrected_paper05noise_more (seeds 20-39) are run on request.
+# bistable05,bistable05noise}; corrected_long_paper10noise (32 records, 10 seeds),
+# corrected_long16_paper10noise (128 records = 16x, 20 seeds, ~90 CPU s a seed: where "within 3 SE
+# and 5 %" tests the estimator, not the data length) and corrected_paper05noise_more (seeds 20-39)
+# are run on request (OMP_NUM_THREADS=1 nice -n 10). `z_long_paper`: are the SEs calibrated at
+# 32 records (the paper's model, omega_max*dt 1.0, no noise, seeds 10-29: long_paper has 0-9)?
+# sd of z with its 95 % interval, observed information and (VEHS_SECOND_COVARIANCE) sandwich.
 # VEHS_BENCH_LIKELIHOOD=path runs that binary (a copy, so that rebuilds cannot touch a study).
 # `narx` installs SysIdentPy (PyPI; an optional dependency of this benchmark only) into build/bench-venv and fits polynomial NARX models on the same Silverbox
 # split. Long: run under nice; the synthetic part takes about an hour on 2 cores.
@@ -40,6 +45,7 @@ for ((i = 0; i < ${#parts[@]}; ++i)); do
   p="${parts[$i]}"
   case "$p" in
     silverbox) run silverbox "$bench" silverbox data/silverbox/SNLS80mV.csv ;;
+    silverbox_correction) run "$p" bench/likelihood_silverbox_correction.sh ;;
     narx)
       venv="$build/bench-venv"
       [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
@@ -71,6 +77,9 @@ for ((i = 0; i < ${#parts[@]}; ++i)); do
     corrected_paper05) run "$p" "$bench" synthetic paper 0.118 0 "${PAPER_SEEDS:-20}" 1000 "${RECORDS:-8}" 8 ;;
     corrected_paper05noise) run "$p" "$bench" synthetic paper 0.118 0.02 "${PAPER_SEEDS:-20}" 1000 "${RECORDS:-8}" 8 ;;
     corrected_long_paper10noise) run "$p" "$bench" synthetic paper 0.236 0.02 "${PAPER_SEEDS:-10}" 1000 32 8 ;;
+    corrected_long16_paper10noise) run "$p" "$bench" synthetic paper 0.236 0.02 "${PAPER_SEEDS:-20}" 1000 128 8 ;;
+    z_long_paper) FIRST_SEED="${FIRST_SEED:-10}" VEHS_SECOND_COVARIANCE=sandwich \
+        run "$p" "$bench" synthetic paper 0.236 0 "${PAPER_SEEDS:-20}" 1000 32 ;;
     corrected_paper05noise_more) FIRST_SEED=20 run "$p" "$bench" synthetic paper 0.118 0.02 20 1000 8 8 ;;
     corrected_bistable10) run "$p" "$bench" synthetic bistable 0.7 0 "${SEEDS:-20}" 2000 "${RECORDS:-8}" 8 ;;
     corrected_bistable10noise) run "$p" "$bench" synthetic bistable 0.7 0.02 "${SEEDS:-20}" 2000 "${RECORDS:-8}" 8 ;;

@@ -1,6 +1,7 @@
 #include "vehs/io/model_file.hpp"
 
 #include <cmath>
+#include <cstdint>
 
 #include "vehs/core/error.hpp"
 #include "vehs/io/atomic_file.hpp"
@@ -74,6 +75,27 @@ std::string optional_string(const nlohmann::json& o, const char* key, const std:
   return o[key].get<std::string>();
 }
 
+/// `likelihood.bias_correction`: {"datasets": B, "seed": s, "max_shift_se": d, "skipped": why}.
+void bias_correction_from_json(const nlohmann::json& b, const std::string& w, LikelihoodFit& f) {
+  if (!b.is_object()) throw Error(w + " must be an object");
+  for (auto it = b.begin(); it != b.end(); ++it)
+    if (it.key() != "datasets" && it.key() != "seed" && it.key() != "max_shift_se" && it.key() != "skipped")
+      throw Error(w + ": unknown key '" + it.key() + "' (datasets, seed, max_shift_se, skipped)");
+  if (!b.contains("datasets")) throw Error(w + ".datasets is missing");
+  const auto& B = b["datasets"];
+  if (!B.is_number_integer() || B.get<long long>() < 0 || B.get<long long>() > 1000)
+    throw Error(w + ".datasets must be an integer in [0, 1000] (got " + json_excerpt(B) + ")");
+  f.bias_correction_datasets = B.get<int>();
+  if (b.contains("seed")) {
+    const auto& s = b["seed"];
+    if (!s.is_number_unsigned()) throw Error(w + ".seed must be an integer >= 0 (got " + json_excerpt(s) + ")");
+    f.bias_correction_seed = s.get<std::uint64_t>();
+  }
+  f.bias_correction_max_shift_se = optional_number(b, "max_shift_se", 0.0, w);
+  if (f.bias_correction_max_shift_se < 0.0) throw Error(w + ".max_shift_se must be >= 0");
+  f.bias_correction_skipped = optional_string(b, "skipped", w);
+}
+
 LikelihoodFit likelihood_from_json(const nlohmann::json& l, const std::string& w) {
   if (!l.is_object()) throw Error(w + " must be an object");
   LikelihoodFit f;
@@ -114,6 +136,7 @@ LikelihoodFit likelihood_from_json(const nlohmann::json& l, const std::string& w
         f.covariance.push_back(finite_number(c[i][m], w + ".covariance[" + std::to_string(i) + "][" + std::to_string(m) + "]"));
     }
   }
+  if (l.contains("bias_correction")) bias_correction_from_json(l["bias_correction"], w + ".bias_correction", f);
   return f;
 }
 
@@ -137,6 +160,16 @@ OJ likelihood_to_json(const LikelihoodFit& f) {
     for (std::size_t i = 0; i < k; ++i)
       c.push_back(std::vector<double>(f.covariance.begin() + long(i * k), f.covariance.begin() + long((i + 1) * k)));
     l["covariance"] = c;
+  }
+  if (f.bias_correction_datasets > 0 || !f.bias_correction_skipped.empty()) {
+    OJ b;
+    b["datasets"] = f.bias_correction_datasets;
+    if (f.bias_correction_datasets > 0) {
+      b["seed"] = f.bias_correction_seed;
+      b["max_shift_se"] = f.bias_correction_max_shift_se;
+    }
+    if (!f.bias_correction_skipped.empty()) b["skipped"] = f.bias_correction_skipped;
+    l["bias_correction"] = b;
   }
   return l;
 }

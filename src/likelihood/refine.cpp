@@ -37,7 +37,7 @@ bool RefineOptions::IsValid(std::string* error) const {
   if (warm_start_samples < 1000) return fail("warm_start_samples must be >= 1000");
   if (bias_correction_datasets < 0 || bias_correction_datasets > 1000)
     return fail("bias_correction_datasets must be in [0, 1000]");
-  if (bias_correction_datasets > 0 && per_record_phase)
+  if (bias_correction_datasets > 0 && per_record_phase && !bias_correction_auto)
     return fail("bias_correction_datasets needs one shared harmonic phase (per_record_phase false): the simulator "
                 "has one phase");
   return true;
@@ -72,7 +72,9 @@ std::string Summary::FullReport() const {
        << "\n";
   if (bias_correction_datasets > 0)
     os << "  bias correction: " << bias_correction_datasets << " simulated data sets, largest shift "
-       << bias_correction_max_se << " SE (covariance x " << 1.0 + 1.0 / bias_correction_datasets << ")\n";
+       << bias_correction_max_se << " SE (covariance x " << 1.0 + 1.0 / bias_correction_datasets << "), seed "
+       << bias_correction_seed << "\n";
+  if (!bias_correction_skipped.empty()) os << "  bias correction skipped: " << bias_correction_skipped << "\n";
   return os.str();
 }
 
@@ -463,9 +465,16 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
   Result res = options.select ? detail::select_support(first, data, options, choice)
                               : detail::fit_support(first, data, options, choice, true);
   detail::respect_domain(res);  // a negative amplitude flipped, other estimates outside the catalogue refused
-  if (options.bias_correction_datasets > 0) {
-    choice.fit_measurement_noise = res.find("measurement_sd") >= 0;
+  choice.fit_measurement_noise = res.find("measurement_sd") >= 0;
+  if (options.bias_correction_datasets > 0 && !options.bias_correction_auto) {
     detail::correct_filter_bias(res, data, options, choice);
+  } else if (options.bias_correction_datasets > 0 && choice.fit_measurement_noise && !options.per_record_phase) {
+    try {
+      detail::correct_filter_bias(res, data, options, choice);
+    } catch (const Error& e) {
+      res.summary.bias_correction_skipped = e.what();
+      if (options.log) options.log("likelihood bias correction skipped: " + res.summary.bias_correction_skipped);
+    }
   }
   detail::respect_domain(res);
   return res;

@@ -21,6 +21,11 @@ struct LikelihoodSettings {
   likelihood::RefineOptions options;
 };
 
+/// B of `bias_correction: "auto"` (the default): B data sets when the final fit estimates the
+/// measurement noise (and has one shared harmonic phase), else none; skipped, not thrown, when
+/// the estimate cannot be simulated (RefineOptions::bias_correction_auto).
+inline constexpr int kAutoBiasCorrectionDatasets = 8;
+
 /// The help text of the `likelihood` key.
 extern const char* const kLikelihoodHelp;
 

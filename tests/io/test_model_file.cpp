@@ -88,3 +88,51 @@ TEST_CASE("the covariance of the estimates round-trips; a bad one is rejected na
   CHECK_THROWS_WITH(bad(R"({"parameters": ["drift[x]", "drift[x]"], "matrix": [[1, 0], [0, 1]]})"),
                     Catch::Contains("appears twice"));
 }
+
+TEST_CASE("the likelihood's bias correction is recorded in the model file and read back; bad entries are "
+          "rejected naming the key",
+          "[model][likelihood]") {
+  auto with = [](const std::string& bias) {
+    return vehs::model_from_json(
+        json::parse(R"({"drift": {"x": -1}, "diffusion": {"1": 0.02}, "likelihood": {"measurement_sd": 0.01,
+                    "parameters": ["drift[x]"], "values": [-1], "bias_correction": )" + bias + "}}"),
+        "m.json");
+  };
+  const auto m = with(R"({"datasets": 8, "seed": 18446744073709551615, "max_shift_se": 0.75})");
+  REQUIRE(m.fit);
+  REQUIRE(m.fit->likelihood);
+  const vehs::LikelihoodFit& lf = *m.fit->likelihood;
+  CHECK(lf.bias_correction_datasets == 8);
+  CHECK(lf.bias_correction_seed == 18446744073709551615ULL);
+  CHECK(lf.bias_correction_max_shift_se == 0.75);
+  const json back_json = json::parse(vehs::model_to_json(m).dump());
+  CHECK(back_json["likelihood"]["bias_correction"] ==
+        json::parse(R"({"datasets": 8, "seed": 18446744073709551615, "max_shift_se": 0.75})"));
+  const auto back = vehs::model_from_json(back_json, "back.json");
+  CHECK(back.fit->likelihood->bias_correction_seed == lf.bias_correction_seed);
+  CHECK(back.fit->likelihood->bias_correction_max_shift_se == 0.75);
+  // an automatic correction that was skipped says why; none asked: no key written
+  const auto skipped = with(R"({"datasets": 0, "skipped": "cannot simulate the fitted model"})");
+  CHECK(skipped.fit->likelihood->bias_correction_skipped == "cannot simulate the fitted model");
+  CHECK(json::parse(vehs::model_to_json(skipped).dump())["likelihood"]["bias_correction"] ==
+        json::parse(R"({"datasets": 0, "skipped": "cannot simulate the fitted model"})"));
+  auto none = m;
+  none.fit->likelihood->bias_correction_datasets = 0;
+  CHECK(!json::parse(vehs::model_to_json(none).dump())["likelihood"].contains("bias_correction"));
+  const std::pair<const char*, const char*> bad[] = {
+      {R"(8)", "m.json: likelihood.bias_correction must be an object"},
+      {R"({"seed": 1})", "likelihood.bias_correction.datasets is missing"},
+      {R"({"datasets": -1})", "likelihood.bias_correction.datasets must be an integer in [0, 1000]"},
+      {R"({"datasets": 1001})", "likelihood.bias_correction.datasets must be an integer in [0, 1000]"},
+      {R"({"datasets": 2.5})", "likelihood.bias_correction.datasets must be an integer in [0, 1000]"},
+      {R"({"datasets": 8, "seed": -3})", "likelihood.bias_correction.seed must be an integer >= 0"},
+      {R"({"datasets": 8, "max_shift_se": -0.1})", "likelihood.bias_correction.max_shift_se must be >= 0"},
+      {R"({"datasets": 8, "max_shift_se": "big"})", "likelihood.bias_correction.max_shift_se must be a number"},
+      {R"({"datasets": 8, "skipped": 3})", "likelihood.bias_correction.skipped must be a string"},
+      {R"({"datasets": 8, "sets": 8})", "likelihood.bias_correction: unknown key 'sets'"},
+  };
+  for (const auto& [text, message] : bad) {
+    CAPTURE(text);
+    CHECK_THROWS_WITH(with(text), Catch::Contains(message));
+  }
+}

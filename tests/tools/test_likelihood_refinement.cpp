@@ -4,6 +4,8 @@
 // out of range) as one-line errors with nothing written.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -116,6 +118,40 @@ TEST_CASE("identify-vehs: estimator auto at omega*dt 1.0 is refined by the likel
   }
   const double d_est = f.model.diffusion_coef("1"), d_se = f.model.diffusion_stderr.at("1");
   CHECK(std::abs(d_est - 0.04) <= bound * d_se);
+  // bias_correction "auto" (the default) corrects only a fit that estimates sensor noise
+  const bool noise = std::find(lf.parameters.begin(), lf.parameters.end(), "measurement_sd") != lf.parameters.end();
+  CHECK(lf.bias_correction_datasets == (noise ? 8 : 0));
+}
+
+TEST_CASE("identify-vehs: with sensor noise the bias correction is on by default (B = 8, recorded in the model "
+          "file); bias_correction 0 turns it off",
+          "[tools][likelihood][bias_correction][slow]") {
+  // 5 % sensor noise: its estimate stays in the model (select false), so "auto" corrects
+  const Dataset clean = bistable_data(0.7, 1, 300.0, 41);
+  const double noise = 0.05 * vehs_lik_test::sd_of(clean.x);
+  const Dataset d = vehs_lik_test::simulate(bistable(), 0.7, 2, 600.0, 41, noise);
+  const std::string lib = R"("drift_library": ["x", "x^3", "y"], "diffusion_library": ["1"], "sparsity": "none", )";
+  const ModelFile on = refined_fit(d, "bias_auto", lib + R"("likelihood": {"select": false, "bias_correction_seed": 5})");
+  const ModelFile off = refined_fit(d, "bias_off", lib + R"("likelihood": {"select": false, "bias_correction": 0})");
+  const LikelihoodFit& a = *on.model.fit->likelihood;
+  const LikelihoodFit& b = *off.model.fit->likelihood;
+  CHECK(a.bias_correction_datasets == 8);
+  CHECK(a.bias_correction_seed == 5);
+  CHECK(a.bias_correction_max_shift_se > 0.0);
+  CHECK(std::isfinite(a.bias_correction_max_shift_se));
+  CHECK(on.sections.at("likelihood").at("bias_correction").at("datasets") == 8);
+  CHECK(b.bias_correction_datasets == 0);
+  CHECK(!off.sections.at("likelihood").contains("bias_correction"));
+  // the same maximum, then the correction: the drift's SEs x sqrt(1 + 1/8) exactly (natural
+  // scale: the covariance does not depend on the point), the estimates moved by at most the
+  // recorded largest shift
+  REQUIRE(a.parameters == b.parameters);
+  for (const char* t : {"x", "x^3", "y"}) {
+    INFO(t);
+    CHECK(on.model.drift_stderr.at(t) == Approx(off.model.drift_stderr.at(t) * std::sqrt(1.125)).epsilon(1e-6));
+    CHECK(std::abs(on.model.drift_coef(t) - off.model.drift_coef(t)) <=
+          a.bias_correction_max_shift_se * off.model.drift_stderr.at(t) * (1 + 1e-6));
+  }
 }
 
 TEST_CASE("identify-vehs: finely sampled data stay with the moment fit under estimator auto", "[tools][likelihood]") {
@@ -151,6 +187,10 @@ TEST_CASE("identify-vehs: bad likelihood settings and unsupported input interpol
       {R"("likelihood": {"lr_alpha": 2}})", "lr_alpha"},
       {R"("likelihood": {"bias_correction": -1}})", "likelihood.bias_correction"},
       {R"("likelihood": {"bias_correction": 1001}})", "likelihood.bias_correction"},
+      {R"("likelihood": {"bias_correction": "sometimes"}})", "likelihood.bias_correction' must be \"auto\" or an integer"},
+      {R"("likelihood": {"bias_correction": true}})", "likelihood.bias_correction"},
+      {R"("likelihood": {"bias_correction_seed": -1}})", "likelihood.bias_correction_seed"},
+      {R"("likelihood": {"bias_correction": 8, "per_record_phase": true}})", "per_record_phase"},
       {R"("samples": [10, 20000]})", "but the record has"},
       {R"("samples": [0, 5]})", "'samples' must be [first, last]"},
   };

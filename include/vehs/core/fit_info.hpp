@@ -4,6 +4,7 @@
 // ("estimator" and "sampling"); diagnose reads it to look at data through the same lens and to
 // refuse data sampled at another interval. A model built in C++ may set it or leave it empty.
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
@@ -74,6 +75,13 @@ struct LikelihoodFit {
   std::vector<std::string> parameters;  ///< free parameters (vehs/likelihood/parameters.hpp names)
   std::vector<double> values;           ///< their estimates (natural scale)
   std::vector<double> covariance;       ///< row-major, parameters × parameters
+  /// The simulation-based correction of the filter's bias (vehs/likelihood/refine.hpp:
+  /// RefineOptions::bias_correction_datasets): B data sets (0: not applied), the seed of the
+  /// first, its largest shift in the fit's standard errors; why an automatic one was skipped.
+  int bias_correction_datasets = 0;
+  std::uint64_t bias_correction_seed = 0;
+  double bias_correction_max_shift_se = 0.0;
+  std::string bias_correction_skipped;
 };
 
 struct FitInfo {

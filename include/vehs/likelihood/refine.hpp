@@ -92,6 +92,11 @@ struct RefineOptions {
   /// covariance × (1 + 1/B). 0: off. Costs B simulations and B gradient passes.
   int bias_correction_datasets = 0;
   std::uint64_t bias_correction_seed = 1;  ///< seed of the first simulated data set
+  /// true (identify-vehs's `bias_correction: "auto"`): correct only when the final fit estimates
+  /// the measurement noise and has one shared harmonic phase, and leave the fit uncorrected,
+  /// with the reason in Summary::bias_correction_skipped, when the correction cannot be done
+  /// (the estimate cannot be simulated or filtered on a simulated data set) instead of throwing.
+  bool bias_correction_auto = false;
   /// Receives one line per fit and per selection step (the library itself never prints).
   std::function<void(const std::string&)> log;
 
@@ -121,6 +126,8 @@ struct Summary {
   std::vector<SelectionStep> selection;
   int bias_correction_datasets = 0;     ///< B of the bias correction (0: none)
   double bias_correction_max_se = 0.0;  ///< its largest shift, in the fit's SEs
+  std::uint64_t bias_correction_seed = 0;  ///< seed of its first simulated data set
+  std::string bias_correction_skipped;  ///< why an automatic correction was not done (empty: done or not asked)
 
   std::string BriefReport() const;
   std::string FullReport() const;
