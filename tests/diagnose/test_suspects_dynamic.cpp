@@ -215,8 +215,9 @@ TEST_CASE("suspects: a hidden OU (coloured) excitation is ranked first and signi
   // At the weakest corner of the drawn range (intensity 0.02, tau 1.0; tau 0.2 is far stronger;
   // CORNER_POT=monostable scripts/seed-study.sh 20 build/tests/test_diagnose "[coloured_corner]",
   // ≈ 25 CPU s a run; 14 shifts of both potentials before):
-  //  * bistable (14 shifts): held out first in 12, the score tests first in 14, colored_noise
-  //    ahead of the runner-up (electromechanical_coupling) by 4.5 ± sd 0.9 in z: P(< 0) ≈ 3e-7.
+  //  * bistable (20 shifts, CORNER_POT=bistable): held out first in 17, the score tests first
+  //    in 20, colored_noise ahead of the runner-up (electromechanical_coupling) by 4.35 ± sd 1.03
+  //    in z (min 2.6; 4.2 sd: P(< 0) ≈ 1.3e-5, normal fit).
   //  * monostable (20 shifts): held out first in 11 (z 3.1 ± 1.0); the score tests first in 20
   //    but ahead of electromechanical_coupling by only 0.95 ± 0.44 (min 0.35): a normal fit puts
   //    it below 0 in 1.6 % of runs, and held out does not save them: at intensity 0.03 (20
@@ -230,8 +231,9 @@ TEST_CASE("suspects: a hidden OU (coloured) excitation is ranked first and signi
   //    colored_noise is ahead of every effect but electromechanical_coupling, by 10.9 ± sd 1.1 in
   //    z (min 8.6; P(< 0) ≈ 1e-23, normal fit), and significant.
   // colored_noise's z above the claim's (≈ 3.1: α = 0.01 over the tested effects, Bonferroni over
-  // the τ grid): bistable 8.6 ± 1.4, monostable 10.9 ± 1.3 (min 8.3): P(not significant) ≤ 1e-9.
-  // Per run: ≤ 1e-6 for either potential (the corner is the worst of the drawn range).
+  // the τ grid): bistable 8.5 ± 1.4 (min 5.7), monostable 10.9 ± 1.3 (min 8.3): ≥ 6.2 sd,
+  // P(not significant) ≤ 3e-10. Per run: ≤ 1.3e-5 bistable, ≤ 1e-9 monostable, at the corner,
+  // the worst of the drawn range.
   bool first = r.ranked[0].effect == "colored_noise", significant = first && r.ranked[0].held_out_significant;
   if (!significant) {
     const auto sr = score_tests_of(c.base, c.data, 0.0);
