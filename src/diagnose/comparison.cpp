@@ -30,7 +30,7 @@ void unit_statistics(const Comparison& cmp, const Dataset& d, std::vector<UnitSt
       const Record& rec = d.records[s.record];
       // the drive is the data's (twins are driven by it; their datasets need not carry it)
       compute_unit(cmp.setup, d.x_of(rec), cmp.model.uses_drive() ? data.u_of(data.records[s.record]) : nullptr,
-                   rec.size, rec.t0, s, one[static_cast<std::size_t>(j)]);
+                   rec.size, cmp.forcing_t0[s.record], s, one[static_cast<std::size_t>(j)]);
     } catch (...) {
       std::lock_guard<std::mutex> lock(mtx);
       if (!failure) failure = std::current_exception();

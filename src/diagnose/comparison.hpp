@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "twins.hpp"
+#include "vehs/core/record_phases.hpp"
 #include "unit_stats.hpp"
 #include "vehs/diagnose/diagnose.hpp"
 #include "vehs/fpk/stationary.hpp"
@@ -64,7 +65,7 @@ UnitPlan plan_units(const Dataset& data, const Lens& lens, int min_units, Result
 
 struct Comparison {
   Comparison(const Model& m, const Dataset& d, const Options& o, const Lens& l)
-      : model(m), data(d), options(o), lens(l), model_lens(m, l) {}
+      : model(m), data(d), options(o), lens(l), model_lens(m, l), forcing_t0(forcing_time_origins(m, d, "diagnose", true)) {}
   Comparison(const Comparison&) = delete;
   Comparison& operator=(const Comparison&) = delete;
 
@@ -73,6 +74,9 @@ struct Comparison {
   const Options& options;
   Lens lens;
   ModelLens model_lens;
+  /// Per record, the time at its first sample of the model's harmonic forcing: t0, shifted to
+  /// the record's own phase when the model has one per record (vehs/core/record_phases.hpp).
+  std::vector<double> forcing_t0;
   UnitPlan plan;
   StatsSetup setup;                       ///< setup.lens points to model_lens
   std::unique_ptr<fpk::FpkModel> fpk;     ///< the model's stationary FPK (null when it has none)

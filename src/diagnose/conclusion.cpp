@@ -23,15 +23,16 @@ std::string join(const std::vector<std::string>& v, const std::string& sep) {
 /// The effects behind the significant suspects: score tests first (by p), then held-out ones.
 std::vector<Candidate> significant_suspects(const Result& res) {
   std::vector<Candidate> out;
+  // a forcing with one phase per record is refitted so only when it is the more significant form
   auto add = [&](const std::string& name, const std::string& evidence) {
-    const std::string base = name == "harmonic_forcing_per_record" ? "harmonic_forcing" : name;
-    const EffectId id = enum_from_string(kEffectNames, base, "suspect");
+    const bool per_record = name == "harmonic_forcing_per_record";
+    const EffectId id = enum_from_string(kEffectNames, per_record ? "harmonic_forcing" : name, "suspect");
     for (Candidate& c : out)
       if (c.id == id) {
         c.evidence += "; " + evidence;
         return;
       }
-    out.push_back({id, evidence});
+    out.push_back({id, evidence, per_record});
   };
   for (const auto& s : res.score_suspects.ranked)
     if (s.significant) add(s.effect, (s.effect == "harmonic_forcing_per_record" ? "score test (one phase per record) z = " : "score test z = ") + fmt(s.z));
@@ -93,7 +94,8 @@ void conclude(Result& res, bool confirmed_by_refits) {
   for (const Confirmation& e : c.effects)
     if (e.confirmed) {
       res.recommended.push_back(e.effect);
-      details.push_back(e.effect + " (" + e.reason.substr(e.reason.find(':') + 2) + ")");
+      details.push_back(e.effect + (e.per_record_phase ? " with one phase per record" : "") + " (" +
+                        e.reason.substr(e.reason.find(':') + 2) + ")");
     }
   if (!res.recommended.empty()) {
     res.conclusion = "inadequate — add " + join(details, "; ");

@@ -12,10 +12,12 @@
 #include "residual_signature.hpp"
 #include "unit_math.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/core/record_phases.hpp"
 #include "vehs/diagnose/suspects.hpp"
 #include "vehs/identify/identify.hpp"
 #include "vehs/likelihood/filter.hpp"
 #include "vehs/likelihood/free_run.hpp"
+#include "vehs/likelihood/record_phase_start.hpp"
 #include "vehs/likelihood/refine.hpp"
 
 namespace vehs::diagnose {
@@ -37,6 +39,7 @@ constexpr std::size_t kMinPiece = 200;
 
 struct Split {
   Dataset train, held;  ///< held: one record per held-out piece
+  std::vector<std::size_t> piece_record;  ///< per piece, its record (in train and data)
 };
 
 /// The leading whole records up to max_samples (at least one), their first (1 − holdout) as
@@ -69,6 +72,7 @@ Split split_records(const Dataset& data, const ConfirmationOptions& o) {
       piece.x.assign(used.x.begin() + long(r.offset + a), used.x.begin() + long(r.offset + b));
       if (used.has_u()) piece.u.assign(used.u.begin() + long(r.offset + a), used.u.begin() + long(r.offset + b));
       s.held.append(std::move(piece));
+      s.piece_record.push_back(i);
     }
   }
   return s;
@@ -78,9 +82,11 @@ Split split_records(const Dataset& data, const ConfirmationOptions& o) {
 struct Refit {
   Model model;
   double measurement_sd = 0.0;
+  std::vector<double> record_phases;  ///< harmonic phase per training record (empty: shared)
 };
 
-Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const Effect* added) {
+Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const Effect* added,
+               bool added_per_record = false) {
   identify::Options io = refit_options(model, lens);
   if (added) io.effects.push_back(*added);
   Refit out;
@@ -89,17 +95,26 @@ Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const
   if (!model.fit || !model.fit->likelihood) return out;
   // the model was refined by maximum likelihood: so is the refit (support fixed)
   const LikelihoodFit& lf = *model.fit->likelihood;
+  const std::vector<double> phases = leading_record_phases(model, train.records.size(), "confirmation");
+  if (!phases.empty())  // identify's moment fit has one shared phase: start from the model's forcing
+    for (Effect& e : out.model.effects)
+      if (e.id == EffectId::HarmonicForcing) e.params = model.find_effect(EffectId::HarmonicForcing)->params;
+  likelihood::ObservedModel start{out.model, lf.measurement_sd, phases};
+  if (phases.empty() && added_per_record)  // each record's own moment fit: its phase (as identify-vehs)
+    likelihood::start_record_phases(start, train, [&](const Dataset& one) { return identify::identify(one, io).model; });
   likelihood::RefineOptions ro;
   ro.filter.input = model.fit->input;
   ro.covariance = likelihood::Covariance::Fisher;
   ro.estimate_measurement_noise = lf.measurement_sd > 0.0;
   ro.measurement_sd_start = lf.measurement_sd;
-  const likelihood::Result r = likelihood::refine({out.model, lf.measurement_sd, {}}, train, ro);
+  ro.per_record_phase = !start.record_phases.empty();
+  const likelihood::Result r = likelihood::refine(start, train, ro);
   const std::optional<FitInfo> fit = out.model.fit;
   out.model = r.model.model;
   out.model.fit = fit;
   if (out.model.fit) out.model.fit->input = model.fit->input;
   out.measurement_sd = r.model.measurement_sd;
+  out.record_phases = r.model.record_phases;
   return out;
 }
 
@@ -109,8 +124,12 @@ struct PieceScores {
   likelihood::FilterTrace trace;
 };
 
-PieceScores score_pieces(const Refit& m, const Dataset& held, InputInterpolation input, bool with_filter, bool driven,
+PieceScores score_pieces(const Refit& m, const Split& split, InputInterpolation input, bool with_filter, bool driven,
                          std::size_t skip) {
+  const Dataset& held = split.held;
+  std::vector<double> phases;  // a phase per record: each piece its record's
+  for (std::size_t p = 0; p < split.piece_record.size() && !m.record_phases.empty(); ++p)
+    phases.push_back(m.record_phases.at(split.piece_record[p]));
   PieceScores s;
   if (with_filter) {
     likelihood::FilterOptions fo;
@@ -118,9 +137,10 @@ PieceScores score_pieces(const Refit& m, const Dataset& held, InputInterpolation
     std::size_t longest = 0;
     for (const auto& r : held.records) longest = std::max(longest, r.size);
     fo.block_samples = longest + 1;  // every piece one block, started from its first sample
-    s.trace = likelihood::filter_trace({m.model, m.measurement_sd, {}}, held, fo);
+    s.trace = likelihood::filter_trace({m.model, m.measurement_sd, phases}, held, fo);
   }
-  for (const auto& r : held.records) {
+  for (std::size_t p = 0; p < held.records.size(); ++p) {
+    const Record& r = held.records[p];
     if (with_filter) {
       double ll = 0.0;
       for (std::size_t k = r.offset + 1; k < r.offset + r.size; ++k) {
@@ -135,7 +155,11 @@ PieceScores score_pieces(const Refit& m, const Dataset& held, InputInterpolation
     likelihood::FreeRunOptions fr;
     fr.input = input;
     fr.t0 = r.t0;
-    const likelihood::Validation v = likelihood::validate_free_run(m.model, x, u, r.dt, std::min(skip, r.size / 2), fr);
+    Model run = m.model;
+    if (!phases.empty())
+      for (Effect& e : run.effects)
+        if (e.id == EffectId::HarmonicForcing) e.params["phase"] = phases[p];
+    const likelihood::Validation v = likelihood::validate_free_run(run, x, u, r.dt, std::min(skip, r.size / 2), fr);
     s.sq_error.push_back(v.rmse * v.rmse);
   }
   return s;
@@ -227,7 +251,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
   PieceScores base;
   try {
     if (likelihood_fit || rep.driven)
-      base = score_pieces(refit_on(model, lens, split.train, nullptr), split.held, input, likelihood_fit, rep.driven,
+      base = score_pieces(refit_on(model, lens, split.train, nullptr), split, input, likelihood_fit, rep.driven,
                           o.free_run_skip);
   } catch (const std::exception& e) {
     rep.note = std::string("the baseline refit on the training part failed: ") + e.what();
@@ -243,6 +267,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
     if (static_cast<int>(rep.effects.size()) >= o.max_effects) break;
     Confirmation c;
     c.effect = enum_to_string(kEffectNames, cand.id);
+    c.per_record_phase = cand.per_record_phase;
     c.evidence = cand.evidence;
     try {
       const Suspect* h = likelihood_fit ? nullptr : heldout_of(cand.id);
@@ -250,9 +275,9 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
       PieceScores with;
       if (likelihood_fit || rep.driven) {
         const Effect added{cand.id, {}, {}};
-        const Refit r = refit_on(model, lens, split.train, &added);
+        const Refit r = refit_on(model, lens, split.train, &added, cand.per_record_phase);
         fill_params(c, r.model, cand.id);
-        with = score_pieces(r, split.held, input, likelihood_fit, rep.driven, o.free_run_skip);
+        with = score_pieces(r, split, input, likelihood_fit, rep.driven, o.free_run_skip);
       } else {
         c.params = h->params;
         c.params_stderr = h->params_stderr;

@@ -5,6 +5,8 @@
 #include <exception>
 
 #include "comparison.hpp"
+#include "vehs/core/error.hpp"
+#include "vehs/core/record_phases.hpp"
 #include "vehs/core/detail/progress_counter.hpp"
 #include "vehs/identify/identify.hpp"
 
@@ -49,6 +51,8 @@ int parameter_uncertainty(const Comparison& cmp, const std::vector<PairedStatist
     std::vector<UnitStats> star(units.size());
     vehs::detail::ProgressCounter pprog(opt.progress, "parameter draws", opt.parameter_draws);
     try {
+      if (!record_phases_of(model).empty())  // identify's moment fit has one shared phase
+        throw Error("a harmonic_forcing phase per record cannot be refitted by the moment estimators");
       for (int b = 0; b < opt.parameter_draws; ++b) {
         pseudo_sim.simulate(b, pseudo);
         const Model mstar = identify::identify(pseudo, io).model;

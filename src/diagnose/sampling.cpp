@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "comparison.hpp"
+#include "vehs/core/record_phases.hpp"
 #include "unit_math.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/identify/identify.hpp"
@@ -60,7 +61,9 @@ Pilot model_sampling_pilot(const Model& model, const Dataset& data) {
   const std::size_t cap = std::max<std::size_t>(4000, 600000 / std::max<std::size_t>(1, data.records.size()));
   double c[4] = {0, 0, 0, 0};
   std::vector<double> e;
-  for (const auto& r : data.records) {
+  const std::vector<double> origin = forcing_time_origins(model, data, "diagnose", true);
+  for (std::size_t j = 0; j < data.records.size(); ++j) {
+    const Record& r = data.records[j];
     const std::size_t n = std::min(r.size, cap);
     if (n < 16) continue;
     const double* x = data.x_of(r);
@@ -69,7 +72,7 @@ Pilot model_sampling_pilot(const Model& model, const Dataset& data) {
     for (std::size_t i = L.lead(); i + L.trail() < n; ++i) {
       double xi, v, a;
       L.at(x, i, xi, v, a);
-      e.push_back(a - ml.b2(xi, v, u ? u[i] : 0.0, r.t0 + static_cast<double>(i) * L.dt));
+      e.push_back(a - ml.b2(xi, v, u ? u[i] : 0.0, origin[j] + static_cast<double>(i) * L.dt));
     }
     for (int l = 0; l < 4; ++l)
       for (std::size_t i = 0; i + static_cast<std::size_t>(l) < e.size(); ++i) c[l] += e[i] * e[i + static_cast<std::size_t>(l)];
@@ -116,7 +119,7 @@ Lens choose_lens(const Options& opt, const FitInfo& fit, const Pilot& pilot, dou
   lens.stride = forward ? 1 : std::max(stride, 1);
   if (opt.sensor_noise >= 0.0)
     lens.sensor_noise_sd = opt.sensor_noise;
-  else if (fit.likelihood && fit.likelihood->measurement_sd > 0.0)  // the model's own measurement noise
+  else if (fit.likelihood)  // the model's own measurement noise (0: none; the moment pilot's reading is not the model's)
     lens.sensor_noise_sd = fit.likelihood->measurement_sd;
   else if (fit.sampling.sensor_noise_sd > 0.0)
     lens.sensor_noise_sd = fit.sampling.sensor_noise_sd;

@@ -15,6 +15,7 @@
 
 #include "unit_math.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/core/record_phases.hpp"
 #include "vehs/diagnose/distributions.hpp"
 #include "vehs/likelihood/filter.hpp"
 #include "vehs/likelihood/refine.hpp"
@@ -108,6 +109,12 @@ struct Context {
   Dataset pilot;  ///< the leading quarter of the records, where the scans choose (empty: all data)
 };
 
+/// Model m observed on d (the data or their leading records) with the measurement noise and
+/// the baseline's harmonic phase per record, if it has one (vehs/core/record_phases.hpp).
+likelihood::ObservedModel observed(const Context& c, Model m, const Dataset& d) {
+  return {std::move(m), c.measurement_sd, leading_record_phases(c.model, d.records.size(), "score suspects")};
+}
+
 /// The look-alike damping forms y·|y| (quadratic_damping) and y³ (nonlinear_damping): over a
 /// Gaussian-like velocity their efficient scores correlate ≈ 0.97 once the linear damping is
 /// projected out, so both are named with nearly equal z. Each one's drift term, its likelihood
@@ -161,7 +168,7 @@ std::vector<ScoreSuspect> term_effects(const Context& c, const std::vector<Effec
     groups.emplace_back();
     for (const auto& sl : g) groups.back().push_back(sl.name);
   }
-  likelihood::ObservedModel om{m, c.measurement_sd, {}};
+  const likelihood::ObservedModel om = observed(c, m, c.data);
   const std::vector<likelihood::ScoreTestResult> rs = likelihood::score_tests(om, c.data, groups, c.test_options);
   for (std::size_t k = 0; k < slots.size(); ++k) {
     const EffectSpec& spec = effect_spec(tested_ids[k]);
@@ -213,8 +220,7 @@ ScoreSuspect scanned_effect(const Context& c, EffectId id, const std::string& te
     likelihood::ScoreTestOptions o = c.test_options;
     for (const auto& ps : effect_spec(id).params)
       if (std::string(ps.name) != tested) o.fixed.push_back(name + "." + std::string(ps.name));
-    likelihood::ObservedModel om{m, c.measurement_sd, {}};
-    return likelihood::score_test(om, data, {name + "." + tested}, o);
+    return likelihood::score_test(observed(c, m, data), data, {name + "." + tested}, o);
   };
   double best_g = grid.front();
   if (grid.size() > 1) {
@@ -241,7 +247,7 @@ ScoreSuspect scanned_effect(const Context& c, EffectId id, const std::string& te
 
 /// The harmonic-forcing scans on the whitened innovations of the model's filter.
 std::pair<ScoreSuspect, ScoreSuspect> forcing_scans(const Context& c) {
-  likelihood::ObservedModel om{c.model, c.measurement_sd, {}};
+  const likelihood::ObservedModel om = observed(c, c.model, c.data);
   const likelihood::FilterTrace tr = likelihood::filter_trace(om, c.data, c.test_options.filter);
   const double dt = c.data.records.front().dt;
   std::size_t longest = 0;
@@ -311,7 +317,9 @@ std::pair<ScoreSuspect, ScoreSuspect> forcing_scans(const Context& c) {
   const double stat_local = incoherent[kl];
   fill(local, kl, stat_local, 2.0 * R, "sum over records of the whitened innovations' periodograms, one phase per record (chi2, " +
                                            std::to_string(int(2 * R)) + " dof)");
-  shared.add = local.add = add_fragment("harmonic_forcing");
+  shared.add = add_fragment("harmonic_forcing");
+  // identify fits one phase per record only by the likelihood, on request
+  local.add = R"({"effects": ["harmonic_forcing"], "likelihood": {"per_record_phase": true}})";
   // the excess over the null mean, as a signal-to-noise measure (whitened units)
   shared.params["excess_snr"] = std::max(0.0, stat_shared - 2.0);
   local.params["excess_snr"] = std::max(0.0, stat_local - 2.0 * R);
@@ -328,7 +336,9 @@ likelihood::Result refit_with(const Context& c, const LookAlike& a) {
   o.estimate_measurement_noise = c.measurement_sd > 0.0;
   o.measurement_sd_start = c.measurement_sd;
   o.covariance = likelihood::Covariance::Fisher;
-  return likelihood::refine({m, c.measurement_sd, {}}, c.data, o);
+  likelihood::ObservedModel start = observed(c, std::move(m), c.data);
+  o.per_record_phase = !start.record_phases.empty();
+  return likelihood::refine(start, c.data, o);
 }
 
 /// The score z of `a`'s parameter (≥ 0) added at 0 to the refit `fit` of the other form: what

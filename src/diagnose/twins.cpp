@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "vehs/core/error.hpp"
+#include "vehs/core/record_phases.hpp"
 #include "vehs/diagnose/lens.hpp"
 #include "vehs/likelihood/signals.hpp"
 
@@ -79,12 +80,14 @@ TwinSimulator::TwinSimulator(const Model& model, const Dataset& data, const Twin
   harmonic_ = model.find_effect(EffectId::HarmonicForcing) != nullptr;
   if (model.uses_drive() && data.has_u() && settings.input != InputInterpolation::ZeroOrderHold)
     fine_ = std::max(settings.substeps, 1);
+  // harmonic forcing in the records' own time: t0, or the time origin of a record's own phase
+  const std::vector<double> origin = forcing_time_origins(model, data, "diagnose");
   std::map<std::tuple<std::size_t, double, std::size_t>, std::size_t> index;
   for (std::size_t r = 0; r < data.records.size(); ++r) {
     const auto& rec = data.records[r];
     // records of one length (and start time, with harmonic forcing) are simulated together;
     // with an interpolated input one at a time (memory: samples × substeps)
-    const std::tuple<std::size_t, double, std::size_t> key{rec.size, harmonic_ ? rec.t0 : 0.0, fine_ > 1 ? r : 0};
+    const std::tuple<std::size_t, double, std::size_t> key{rec.size, harmonic_ ? origin[r] : 0.0, fine_ > 1 ? r : 0};
     auto it = index.find(key);
     if (it == index.end()) {
       it = index.emplace(key, groups_.size()).first;

@@ -103,6 +103,7 @@ std::vector<ScoreTestResult> score_tests(const ObservedModel& model, const Datas
     throw Error(where + ": " + why);
   detail::FitChoice choice;
   choice.fit_measurement_noise = options.estimate_measurement_noise && model.measurement_sd > 0.0;
+  choice.per_record_phase = !model.record_phases.empty();  // the model's phases per record, free
   choice.fixed = options.fixed;
   choice.natural_scale = all;
   const detail::Parameterization p(model, choice, data.records.size(), where);

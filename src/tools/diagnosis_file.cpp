@@ -36,6 +36,7 @@ J confirmation_to_json(const diagnose::ConfirmationReport& c) {
   for (const auto& e : c.effects) {
     J x;
     x["effect"] = e.effect;
+    if (e.per_record_phase) x["per_record_phase"] = true;
     x["evidence"] = e.evidence;
     x["confirmed"] = e.confirmed;
     x["loglik_gain"] = num(e.loglik_gain);

@@ -93,9 +93,12 @@ std::string next_step(const diagnose::Result& r) {
              "); see 'Confirmation by held-out refits'.";
     std::string names;
     for (const auto& e : r.recommended) names += (names.empty() ? "" : ", ") + e;
+    bool per_record = false;  // the first recommendation refitted with one forcing phase per record
+    for (const auto& e : r.confirmation.effects)
+      if (e.confirmed && e.effect == r.recommended.front()) per_record = e.per_record_phase;
     return "Next step: add " + names + " to the model's own terms and identify again (\"effects\": [\"" +
-           r.recommended.front() + "\"] with the model's terms as the libraries and no re-selection: the refit that "
-           "confirmed it on held-out data).";
+           r.recommended.front() + "\"]" + (per_record ? ", \"likelihood\": {\"per_record_phase\": true}" : "") +
+           " with the model's terms as the libraries and no re-selection: the refit that confirmed it on held-out data).";
   }
   for (const auto& sp : r.suspects.ranked)
     if (sp.significant)

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "vehs/core/error.hpp"
+#include "vehs/likelihood/record_phase_start.hpp"
 #include "vehs/likelihood/signals.hpp"
 
 namespace vehs::tools {
@@ -37,37 +38,6 @@ LikelihoodUse use_from_string(const Config& c, const std::string& key, const std
   if (s == "always") return LikelihoodUse::Always;
   if (s == "never") return LikelihoodUse::Never;
   c.fail(key, "must be \"auto\", \"always\" or \"never\" (got \"" + s + "\")");
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
-/// Per-record harmonic phases (and the median amplitude and omega) from a moment fit of each
-/// record; records whose own fit fails keep the shared start.
-void per_record_start(likelihood::ObservedModel& start, const Dataset& data, const MomentFit& fit) {
-  Effect* h = nullptr;
-  for (auto& e : start.model.effects)
-    if (e.id == EffectId::HarmonicForcing) h = &e;
-  std::vector<double> amplitudes, omegas;
-  start.record_phases.assign(data.records.size(), h->params["phase"]);
-  for (std::size_t r = 0; r < data.records.size() && fit; ++r) {
-    try {
-      const Model m = fit(likelihood::slice_record(data, r, 0, data.records[r].size));
-      const Effect* e = m.find_effect(EffectId::HarmonicForcing);
-      if (!e) continue;
-      start.record_phases[r] = e->params.at("phase");
-      amplitudes.push_back(e->params.at("amplitude"));
-      omegas.push_back(e->params.at("omega"));
-    } catch (const Error&) {
-      // keep the shared start for this record
-    }
-  }
-  if (!amplitudes.empty()) {
-    h->params["amplitude"] = median(amplitudes);
-    h->params["omega"] = median(omegas);
-  }
 }
 
 }  // namespace
@@ -141,7 +111,7 @@ Refinement refine_moment_fit(Model& model, const Dataset& data, const Likelihood
   if (model.fit) start.measurement_sd = model.fit->sampling.sensor_noise_sd;
   if (o.per_record_phase && !model.find_effect(EffectId::HarmonicForcing))
     throw Error("likelihood.per_record_phase: the model has no harmonic_forcing effect (list it in 'effects')");
-  if (o.per_record_phase) per_record_start(start, data, moment_fit);
+  if (o.per_record_phase) likelihood::start_record_phases(start, data, moment_fit);
   out.result = likelihood::refine(start, data, o);
   const likelihood::Result& r = *out.result;
   FitInfo fit = model.fit ? *model.fit : FitInfo{};

@@ -65,6 +65,7 @@ struct ConfirmationOptions {
 struct Confirmation {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   std::string effect;           ///< catalogue name
+  bool per_record_phase = false;  ///< harmonic_forcing refitted with one phase per record
   std::string evidence;         ///< why it was a candidate ("score test z = 3527.2", ...)
   bool confirmed = false;
   double loglik_gain = kNaN;    ///< held-out one-step log-likelihood, refit − baseline (nats)
@@ -110,6 +111,7 @@ struct ConfirmationReport {
 struct Candidate {
   EffectId id;
   std::string evidence;
+  bool per_record_phase = false;  ///< harmonic_forcing with one phase per record
 };
 
 /// Refits and judges the candidates (see the header comment). Errors of single refits go to
