@@ -125,17 +125,22 @@ void TwinSimulator::simulate(int rep, Dataset& out) {
     o.sensor_noise = settings_.sensor_noise;
     o.record_y = false;
     o.allow_unconfined = true;  // a divergent model is reported as such by the simulator
-    for (std::size_t r : G.records) {
-      o.x0.values.push_back(x0_[r]);
-      o.x0.y_values.push_back(y0_[r]);
-      if (model_.uses_drive() && data_.has_u()) o.drive_per_record.push_back(drive_of(r, G.samples));
-    }
+    o.memory_limit = settings_.memory_limit;
+    const bool driven = model_.uses_drive() && data_.has_u();
     Model m = model_;
     if (harmonic_ && G.t0 != 0.0)
       for (auto& e : m.effects)
         if (e.id == EffectId::HarmonicForcing) e.params["phase"] += e.param("omega") * G.t0;
     Dataset& target = one_group ? out : scratch_;
     try {
+      // the drives (samples × substeps each when refined) only once the simulator's memory
+      // limit allows them and the records they drive
+      if (driven) sim::check_memory(o, true, static_cast<double>(o.records) * static_cast<double>(o.samples));
+      for (std::size_t r : G.records) {
+        o.x0.values.push_back(x0_[r]);
+        o.x0.y_values.push_back(y0_[r]);
+        if (driven) o.drive_per_record.push_back(drive_of(r, G.samples));
+      }
       sim::simulate(m, o, target);
     } catch (const Error& e) {
       throw Error(std::string("simulating the model's twins of the data failed: ") + e.what());

@@ -22,6 +22,9 @@ struct TwinSettings {
   /// (likelihood::refine_input, as simulate-vehs does), one record at a time, and keep every
   /// substeps-th sample: memory of a record's samples × substeps.
   InputInterpolation input = InputInterpolation::ZeroOrderHold;
+  /// The simulator's memory limit for one simulation of the twins (bytes; 0: its default), checked
+  /// before the drives are refined.
+  double memory_limit = 0.0;
 };
 
 /// Initial displacement and velocity of every record: x[0] and the second-order one-sided

@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -162,6 +163,17 @@ void check_simulation(const Model& model, const SimulationOptions& o, const std:
   }
 }
 
+void check_memory(const SimulationOptions& o, bool with_drive, double extra_values) {
+  const double values = static_cast<double>(o.records) * static_cast<double>(o.samples) *
+                            (1.0 + (o.record_y ? 1.0 : 0.0) + (with_drive ? 1.0 : 0.0)) +
+                        std::max(extra_values, 0.0);
+  const double limit = vehs::detail::default_memory_limit(o.memory_limit);
+  if (values * 8.0 > limit)
+    throw Error("simulation: the records would need " + num(values * 8.0 / 1e9) +
+                " GB of memory (limit " + num(limit / 1e9) +
+                " GB): simulate fewer or shorter records, or ask only for statistics");
+}
+
 namespace {
 
 // Everything the engine needs, prepared up front.
@@ -214,13 +226,8 @@ void run(detail::RunContext& ctx, Scheme scheme) {
 }
 
 void allocate(Dataset& d, const SimulationOptions& o) {
-  const double values = static_cast<double>(o.records) * static_cast<double>(o.samples) *
-                        (o.record_y ? 2.0 : 1.0);
-  const double limit = vehs::detail::default_memory_limit(o.memory_limit);
-  if (values * 8.0 > limit)
-    throw Error("simulation: the records would need " + num(values * 8.0 / 1e9) +
-                " GB of memory (limit " + num(limit / 1e9) +
-                " GB): simulate fewer or shorter records, or ask only for statistics");
+  const bool with_drive = !o.drive.empty() || !o.drive_per_record.empty();
+  check_memory(o, with_drive);
   // reuses the vectors' memory when `d` already has the right sizes (repeated simulations)
   d.records.clear();
   const std::size_t n = o.samples;
@@ -229,7 +236,6 @@ void allocate(Dataset& d, const SimulationOptions& o) {
     d.y.resize(d.x.size());
   else
     d.y.clear();
-  const bool with_drive = !o.drive.empty() || !o.drive_per_record.empty();
   if (with_drive)
     d.u.resize(d.x.size());
   else

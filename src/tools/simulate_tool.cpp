@@ -366,11 +366,14 @@ SimulateRun simulate_job(const SimulateJob& job, const ProgressCallback& progres
     if (job.with_statistics)
       throw Error(job.config_file + ": 'statistics' with a drive applied as \"" + enum_to_string(kInputInterpolationNames, how) +
                   "\" (the model's estimator.input) is not supported: simulate records ('output') instead");
-    if (!o.drive.empty()) o.drive = likelihood::refine_input(o.drive, o.substeps, how);
-    for (auto& u : o.drive_per_record) u = likelihood::refine_input(u, o.substeps, how);
+    const std::size_t series = o.drive.empty() ? o.drive_per_record.size() : 1;
     o.dt /= static_cast<double>(factor);
     o.samples = (o.samples - 1) * factor + 1;
     o.substeps = 1;
+    // the refined drives (samples × substeps each) only once the simulator's limit allows them
+    check_memory(o, true, static_cast<double>(series) * static_cast<double>(o.samples));
+    if (!o.drive.empty()) o.drive = likelihood::refine_input(o.drive, static_cast<int>(factor), how);
+    for (auto& u : o.drive_per_record) u = likelihood::refine_input(u, static_cast<int>(factor), how);
   }
   if (job.with_statistics) {
     run.statistics = simulate_statistics(job.model, o, job.statistics, &summary, job.output.empty() ? nullptr : &data);

@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -12,6 +13,7 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/io/measurements.hpp"
+#include "vehs/io/model_file.hpp"
 #include "tools/simulate_tool.hpp"
 
 namespace fs = std::filesystem;
@@ -141,6 +143,30 @@ TEST_CASE("a recorded drive is read from a measurement file", "[config]") {
   const std::string bad = dir.write("bad.json", R"({"model": {"drift": {"x": -1.0, "y": -0.5, "u": 1.0}, "diffusion": {"1": 0.01}},
     "trajectories": 2, "duration": 2, "dt": 0.005, "drive": {"path": ")" + drive + R"("}, "output": "x.csv"})");
   CHECK(error_of([&] { load_job(bad); }).find("sampled at") != std::string::npos);
+}
+
+TEST_CASE("an interpolated drive too large for the memory limit is refused before it is refined", "[config][errors]") {
+  // one trajectory of 10^5 samples driven through the model fit's linear input on 2000 substeps:
+  // the refined drive alone would be 2·10^8 values (1.6 GB), the records x and u as much again;
+  // the simulator's limit (here 1 GB) refuses all of it before the drive is refined
+  SimulateJob job;
+  job.model = vehs::model_from_json(nlohmann::json::parse(
+                                        R"({"drift": {"x": -1.0, "y": -0.5, "u": 1.0}, "diffusion": {"1": 0.01},
+                                            "estimator": {"input": "linear"}})"),
+                                    "model");
+  REQUIRE(job.model.fit);
+  job.options.dt = 0.1;
+  job.options.samples = 100000;
+  job.options.substeps = 2000;
+  job.options.records = 1;
+  job.options.record_y = false;
+  job.options.memory_limit = 1e9;
+  job.options.drive.resize(job.options.samples);
+  for (std::size_t k = 0; k < job.options.drive.size(); ++k) job.options.drive[k] = std::sin(0.01 * static_cast<double>(k));
+  // 4.8 GB counts the refined drive besides x and u (refined first, the simulator would say 3.2)
+  const std::string what = error_of([&] { simulate_job(job, {}); });
+  CHECK(what.find("simulation: the records would need 4.79995 GB of memory (limit 1 GB)") != std::string::npos);
+  CHECK(what.find('\n') == std::string::npos);
 }
 
 TEST_CASE("bad simulate-vehs configs are rejected naming file and key", "[config][errors]") {

@@ -95,6 +95,13 @@ struct SimulationSummary {
 void check_simulation(const Model& model, const SimulationOptions& options,
                       const std::string& where = "simulation");
 
+/// The memory check simulate() makes before allocating: the records `options` asks for (x; y
+/// when record_y; the drive's copy u when `with_drive`) plus `extra_values` doubles a caller
+/// builds for them (e.g. a drive refined to the internal steps), in bytes against
+/// options.memory_limit. Throws simulate()'s one-line vehs::Error when over. Callers whose inputs
+/// scale with the records (samples × substeps) call it before building them.
+void check_memory(const SimulationOptions& options, bool with_drive, double extra_values = 0.0);
+
 /// Simulates `options.records` independent records. Results are identical whatever the thread
 /// count. Throws vehs::Error naming the record and time when a record diverges.
 Dataset simulate(const Model& model, const SimulationOptions& options,
