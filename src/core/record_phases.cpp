@@ -4,6 +4,14 @@
 
 namespace vehs {
 
+namespace {
+Error count_mismatch(const std::string& where, std::size_t phases, std::size_t records) {
+  return Error(where + ": the model has one harmonic_forcing phase per record for " + std::to_string(phases) +
+               " records (likelihood.record_phases) but the data have " + std::to_string(records) +
+               ": use it on the records it was fitted to, in their order");
+}
+}  // namespace
+
 const std::vector<double>& record_phases_of(const Model& model) {
   static const std::vector<double> none;
   if (!model.find_effect(EffectId::HarmonicForcing) || !model.fit || !model.fit->likelihood) return none;
@@ -13,10 +21,7 @@ const std::vector<double>& record_phases_of(const Model& model) {
 std::vector<double> leading_record_phases(const Model& model, std::size_t records, const std::string& where) {
   const std::vector<double>& all = record_phases_of(model);
   if (all.empty()) return {};
-  if (all.size() < records)
-    throw Error(where + ": the model has one harmonic_forcing phase per record for " + std::to_string(all.size()) +
-                " records (likelihood.record_phases) but the data have " + std::to_string(records) +
-                ": use it on the records it was fitted to, in their order");
+  if (all.size() < records) throw count_mismatch(where, all.size(), records);
   return std::vector<double>(all.begin(), all.begin() + static_cast<long>(records));
 }
 
@@ -26,10 +31,7 @@ std::vector<double> forcing_time_origins(const Model& model, const Dataset& data
   for (std::size_t r = 0; r < origin.size(); ++r) origin[r] = data.records[r].t0;
   const std::vector<double>& all = record_phases_of(model);
   if (all.empty()) return origin;
-  if (exact && all.size() != data.records.size())
-    throw Error(where + ": the model has one harmonic_forcing phase per record for " + std::to_string(all.size()) +
-                " records (likelihood.record_phases) but the data have " + std::to_string(data.records.size()) +
-                ": use it on the records it was fitted to, in their order");
+  if (exact && all.size() != data.records.size()) throw count_mismatch(where, all.size(), data.records.size());
   const std::vector<double> phases = leading_record_phases(model, data.records.size(), where);
   const Effect& h = *model.find_effect(EffectId::HarmonicForcing);
   const auto ph = h.params.find("phase"), om = h.params.find("omega");
