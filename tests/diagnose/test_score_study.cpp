@@ -7,7 +7,9 @@
 //    added — adequate by diagnose, the verdict's score at most half the baseline's, every
 //    parameter of the hidden effect within 3 SE, and within 15 % of a non-zero truth (counted
 //    apart: whether the data resolve a parameter to 15 % depends on its SE);
-//  * the confusion counts (hidden → named first and significant).
+//  * the confusion counts (hidden → named first and significant);
+//  * weak cases (<effect>_weak, oracle z about 1.5): "any claim" is the count that matters (the
+//    issue: where the oracle z is <= 2, no claim in >= 95 % of seeds); no loop.
 //   bench/diagnose_score_study.sh CASE [SEEDS [SEED0]]        (one case, nice 10, one thread)
 //   VEHS_SCORE_SEEDS=10 VEHS_SCORE_CASE=a,b build/tests/test_diagnose "[.score_study]"
 // VEHS_SCORE_SEED0=k: seeds k … k + SEEDS − 1; VEHS_SCORE_LOOP=0: no loop (power only);
@@ -80,7 +82,7 @@ diagnose::Options loop_options(std::uint64_t seed) {
 LoopCheck run_loop(const HiddenCase& hc, const Dataset& d, const Outcome& o, std::uint64_t seed) {
   LoopCheck c;
   const auto& top = o.report.ranked.front();
-  if (top.effect != hc.name) {
+  if (top.effect != hc.effect_name()) {
     c.text = "named " + top.effect + ", not the hidden effect";
     return c;
   }
@@ -139,6 +141,7 @@ TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusio
     if (records > 0) hc.records = records;
     if (env_int("VEHS_SCORE_COARSE", 0) != 0) hc = coarse(hc);
     const bool control = hc.name.rfind("none", 0) == 0;
+    const std::string& hidden = hc.effect_name();
     int first_significant = 0, alone = 0, claimed = 0, looped = 0, held = 0, adequate = 0, halved = 0, in_se = 0,
         in_15 = 0;
     double ratio = 0.0, z_sum = 0.0, oracle_sum = 0.0;
@@ -160,22 +163,22 @@ TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusio
         continue;
       }
       const auto& top = o.report.ranked.front();
-      const bool in_group = std::find(top.not_resolved_from.begin(), top.not_resolved_from.end(), hc.name) !=
+      const bool in_group = std::find(top.not_resolved_from.begin(), top.not_resolved_from.end(), hidden) !=
                             top.not_resolved_from.end();
       std::string named = top.significant ? top.effect : "(none)";
       if (top.significant && !top.not_resolved_from.empty()) named += "+" + top.not_resolved_from.front();
       confusion[hc.name][named]++;
       claimed += top.significant;
-      first_significant += top.significant && (top.effect == hc.name || in_group);
-      alone += top.significant && top.effect == hc.name && top.not_resolved_from.empty();
+      first_significant += top.significant && (top.effect == hidden || in_group);
+      alone += top.significant && top.effect == hidden && top.not_resolved_from.empty();
       double z = 0.0;
       for (const auto& sp : o.report.ranked)
-        if (sp.effect == hc.name) z = sp.z;
+        if (sp.effect == hidden) z = sp.z;
       if (oracle > 0.0) ratio += z / oracle, z_sum += z, oracle_sum += oracle, ++with_oracle;
       std::printf("%s seed %d (%.1f s): oracle z %.2f, suspect z %.2f, named %s%s%s\n", hc.name.c_str(), k, o.seconds,
                   oracle, z, named.c_str(), oracle_failure.empty() ? "" : (" (oracle failed: " + oracle_failure + ")").c_str(),
                   describe(o.report).c_str());
-      if (loop && !control && top.significant) {
+      if (loop && !control && !hc.weak() && top.significant) {
         const LoopCheck lc = run_loop(hc, d, o, 100 + std::uint64_t(k));
         looped += 1, held += lc.all(), adequate += lc.adequate, halved += lc.halved;
         in_se += lc.within_se, in_15 += lc.within_15;
@@ -187,7 +190,7 @@ TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusio
                 "mean oracle z %.2f, mean z/oracle %.2f (over the %d seeds with an oracle)",
                 hc.name.c_str(), hc.records, first_significant, seeds, alone, claimed, z_sum / std::max(1, with_oracle),
                 oracle_sum / std::max(1, with_oracle), ratio / std::max(1, with_oracle), with_oracle);
-    if (loop && !control)
+    if (loop && !control && !hc.weak())
       std::printf("; loop holds %d of %d (adequate %d, score halved %d, parameters within 3 SE %d, within 15 %% %d)",
                   held, looped, adequate, halved, in_se, in_15);
     std::printf("\n");
