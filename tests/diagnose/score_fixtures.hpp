@@ -161,12 +161,12 @@ inline std::vector<HiddenCase> hidden_cases() {
     }
   };
   weak("coulomb_friction", "-0.03", "-0.006");
-  weak("quadratic_damping", "-0.3", "-0.06");
-  weak("nonlinear_damping", "-0.3", "-0.06");
+  weak("quadratic_damping", "-0.3", "-0.035");
+  weak("nonlinear_damping", "-0.3", "-0.03");
   weak("velocity_dependent_noise", "0.1", "0.002");
-  weak("colored_noise", "\"intensity\": 0.04", "\"intensity\": 0.003");
-  weak("electromechanical_coupling", "\"coupling\": 0.5", "\"coupling\": 0.08");
-  weak("harmonic_forcing", "0.08", "0.006");
+  weak("colored_noise", "\"intensity\": 0.04", "\"intensity\": 0.0003");
+  weak("electromechanical_coupling", "\"coupling\": 0.5", "\"coupling\": 0.05");
+  weak("harmonic_forcing", "0.08", "0.0045");
   return v;
 }
 

@@ -17,6 +17,7 @@
 // VEHS_SCORE_ORACLE=0: no oracle refit (its z printed as 0; impact_stop's costs 50–70 s a seed).
 // VEHS_SCORE_COARSE=1: the coarse shape (score_fixtures.hpp: coarse(); Δt 0.35, 2 % sensor
 // noise, likelihood-fitted baseline), power only (the loop refits by moments).
+// VEHS_SCORE_LOOP_LIKELIHOOD=1: the loop's refit refined by the likelihood (loop_refit).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -32,6 +33,7 @@
 #include "vehs/diagnose/diagnose.hpp"
 #include "vehs/diagnose/score_suspects.hpp"
 #include "vehs/identify/identify.hpp"
+#include "vehs/likelihood/refine.hpp"
 
 #include "diagnose_fixtures.hpp"
 #include "score_fixtures.hpp"
@@ -79,6 +81,20 @@ diagnose::Options loop_options(std::uint64_t seed) {
   return o;
 }
 
+/// The loop's refit: identify's moment fit with the named effect, refined by the likelihood
+/// (every parameter free, the support kept) when VEHS_SCORE_LOOP_LIKELIHOOD=1 — as identify-vehs
+/// does with "likelihood" requested.
+Model loop_refit(const Dataset& d, const identify::Options& io) {
+  Model refit = identify::identify(d, io).model;
+  if (env_int("VEHS_SCORE_LOOP_LIKELIHOOD", 0) == 0) return refit;
+  const likelihood::Result r = likelihood::refine({refit, 0.0, {}}, d, likelihood::RefineOptions{});
+  FitInfo fit = refit.fit ? *refit.fit : FitInfo{};
+  fit.likelihood = LikelihoodFit{};
+  Model out = r.model.model;
+  out.fit = fit;
+  return out;
+}
+
 LoopCheck run_loop(const HiddenCase& hc, const Dataset& d, const Outcome& o, std::uint64_t seed) {
   LoopCheck c;
   const auto& top = o.report.ranked.front();
@@ -94,7 +110,7 @@ LoopCheck run_loop(const HiddenCase& hc, const Dataset& d, const Outcome& o, std
   added.id = enum_from_string(kEffectNames, top.effect, "suspect");
   identify::Options io = baseline_options_for(hc);
   io.effects = {added};
-  const Model refit = identify::identify(d, io).model;
+  const Model refit = loop_refit(d, io);
   const diagnose::Result r0 = diagnose::diagnose(o.baseline, d, loop_options(seed));
   const diagnose::Result r1 = diagnose::diagnose(refit, d, loop_options(seed + 1000));
   c.adequate = r1.adequate();
