@@ -1,6 +1,7 @@
 #include "diffusion_pass.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace vehs::identify::detail {
 
@@ -158,7 +159,40 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
   }
 }
 
+void standardized_span(const Context& cx, const DiffusionSetup& ds, const DiffusionWeights& w, const Span& sp,
+                       ResidualMoments& acc) {
+  const Record& rec = cx.data.records[sp.record];
+  const std::size_t avail = std::min(cx.kin.rows(rec.size), sp.end + extra_rows(cx.kin, ds.lags)) - sp.begin;
+  thread_local std::vector<double> r;
+  span_residuals(cx, ds.dm, rec, sp.begin, avail, r, nullptr);
+  const double* x = cx.data.x_of(rec);
+  const double* u = cx.data.u_of(rec);
+  const int P = cx.psi.size();
+  RowBlock b;
+  MatrixXd Psi(kB, P);
+  VectorXd a22(kB);
+  std::vector<double> scratch(cx.psi.scratch_size());
+  for (std::size_t j0 = 0; j0 < avail; j0 += kBlockRows) {
+    const int m = static_cast<int>(std::min<std::size_t>(kBlockRows, avail - j0));
+    cx.load(x, u, sp.begin + j0, m, b);
+    cx.psi.values(b, Psi.data(), kB, scratch.data());
+    a22.head(m).noalias() = Psi.topLeftCorner(m, P) * w.q;
+    for (int c = 0; c < m; ++c) r[j0 + static_cast<std::size_t>(c)] /= std::sqrt(std::max(a22[c], w.floor));
+  }
+  accumulate_moments(r, sp.end - sp.begin, avail, ds.lags, 0, acc);
+}
+
 }  // namespace
+
+ResidualMoments standardized_moments(const Context& cx, const DiffusionSetup& ds, const DiffusionWeights& w,
+                                     const std::vector<Span>& spans) {
+  ResidualMoments out(ds.lags.size());
+  run_spans<ResidualMoments>(
+      spans, [&] { return ResidualMoments(ds.lags.size()); },
+      [&](const Span& sp, ResidualMoments& acc) { standardized_span(cx, ds, w, sp, acc); },
+      [&](const Span&, const ResidualMoments& acc) { out.add(acc); }, nullptr);
+  return out;
+}
 
 std::vector<DiffusionStats> diffusion_pass(const Context& cx, const DiffusionSetup& ds,
                                            const std::vector<Span>& spans, int folds,

@@ -111,6 +111,12 @@ struct DiffusionStats {
   }
 };
 
+/// The residual moments at `ds.lags` of the residuals standardized by the diffusion `w.q`
+/// (r_j / √max(a22(x_j, v_j), w.floor)): the lag statistics of a state-dependent diffusion, whose
+/// rare large-variance rows would otherwise carry the unweighted autocorrelations (pilot.cpp).
+ResidualMoments standardized_moments(const Context& cx, const DiffusionSetup& ds, const DiffusionWeights& w,
+                                     const std::vector<Span>& spans);
+
 /// Diffusion statistics of every fold.
 std::vector<DiffusionStats> diffusion_pass(const Context& cx, const DiffusionSetup& ds,
                                            const std::vector<Span>& spans, int folds,

@@ -167,9 +167,8 @@ DiffusionSetup diffusion_setup(const Pilot& pilot, const DriftModel& dm, Estimat
   DiffusionSetup ds;
   ds.target = target_of(est);
   ds.dm = dm;
+  ds.w = diffusion_weights(pilot);
   ds.w.weighted = est != Estimator::Paper;
-  ds.w.q = pilot.q;
-  ds.w.floor = std::max(0.05 * std::abs(pilot.mean_z), 1e-300);
   ds.lags = {1, 2, 3};
   if (k > 3) ds.lags.push_back(k);
   ds.lags.push_back(2 * k);
@@ -367,7 +366,7 @@ void set_sign_smoothing(Dictionaries& dict, const Pilot& pilot, Estimator est, d
   TermList a22;
   for (int j = 0; j < dict.psi.size(); ++j) a22.push_back({dict.psi.term(j), pilot.q[j]});
   const double var_v_noise = est == Estimator::Noisy ? std::max(pilot.C2k - pilot.C3k, 0.0) * h * h / 2.0 : 0.0;
-  dict.phi.set_sign_smoothing(h, a22, std::max(0.05 * std::abs(pilot.mean_z), 1e-300), var_v_noise);
+  dict.phi.set_sign_smoothing(h, a22, diffusion_weights(pilot).floor, var_v_noise);
 }
 
 std::size_t shortest_record(const Dataset& data) {
