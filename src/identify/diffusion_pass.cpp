@@ -177,7 +177,12 @@ void standardized_span(const Context& cx, const DiffusionSetup& ds, const Diffus
     cx.load(x, u, sp.begin + j0, m, b);
     cx.psi.values(b, Psi.data(), kB, scratch.data());
     a22.head(m).noalias() = Psi.topLeftCorner(m, P) * w.q;
-    for (int c = 0; c < m; ++c) r[j0 + static_cast<std::size_t>(c)] /= std::sqrt(std::max(a22[c], w.floor));
+    for (int c = 0; c < m; ++c) {
+      const std::size_t j = j0 + static_cast<std::size_t>(c);
+      const double wj = 1.0 / std::max(a22[c], w.floor);
+      r[j] *= std::sqrt(wj);
+      if (j < sp.end - sp.begin) acc.wsum += wj;
+    }
   }
   accumulate_moments(r, sp.end - sp.begin, avail, ds.lags, 0, acc);
 }

@@ -11,6 +11,10 @@ namespace vehs::identify::detail {
 
 using Eigen::VectorXd;
 
+bool state_dependent(const Dictionary& psi) {
+  return std::any_of(psi.terms().begin(), psi.terms().end(), [](const Term& t) { return t.name() != "1"; });
+}
+
 DiffusionWeights diffusion_weights(const Pilot& p) {
   DiffusionWeights w;
   w.weighted = true;
@@ -45,16 +49,13 @@ Pilot run_pilot(const Dataset& d, const Dictionary& phi, const Dictionary& psi, 
   // large variance (a y² diffusion's velocity bursts into a stiff wall, where the lens's O(h²)
   // error is a smooth force) otherwise carry the autocorrelations: 0.06 % of the rows held 30 %
   // of Σr² and read 26–36 % sensor noise into noise-free pentastable records (issue 13).
-  const bool state_dependent = std::any_of(psi.terms().begin(), psi.terms().end(),
-                                           [](const Term& t) { return t.name() != "1"; });
-  const ResidualMoments mo = state_dependent ? standardized_moments(cx, p.ds, diffusion_weights(p), p.spans) : dd[0].mom;
-  const ResidualMoments& raw = dd[0].mom;  // the sensor-noise covariances (variance units)
-  p.V = raw.r2 / raw.n;
+  const ResidualMoments mo = state_dependent(psi) ? standardized_moments(cx, p.ds, diffusion_weights(p), p.spans) : dd[0].mom;
+  p.V = dd[0].mom.r2 / dd[0].mom.n;
   p.rho_1 = mo.autocorrelation(0);
   p.rho_k = mo.autocorrelation(1);
-  p.C2k = raw.autocovariance(2);
+  p.C2k = mo.white_autocovariance(2);
   p.rho_2k = mo.autocorrelation(2);
-  p.C3k = raw.autocovariance(3);
+  p.C3k = mo.white_autocovariance(3);
   p.rho_3k = mo.autocorrelation(3);
   p.rows = mo.n;
   p.noise_share = sampling_rule(p.rho_k, p.rho_2k, p.rho_3k, p.rows).noise_share;

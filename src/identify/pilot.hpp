@@ -31,6 +31,10 @@ struct Pilot {
   DiffusionSetup ds;
 };
 
+/// Whether the diffusion library has a term other than the constant (the sampling rule and the
+/// sensor-noise covariance then read residuals standardized by the fitted diffusion).
+bool state_dependent(const Dictionary& psi);
+
 /// The weights of a diffusion fit from the pilot's OLS diffusion: 1/max(a22, 5 % of the mean target).
 DiffusionWeights diffusion_weights(const Pilot& p);
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -312,13 +313,15 @@ struct DiffusionSelection {
 
 DiffusionSelection select_diffusion(const std::vector<DiffusionStats>& folds, const DiffusionSetup& ds,
                                     const Dictionaries& dict, const Pilot& pilot, Estimator est, double h,
-                                    SelectionOptions selection, DriftSelection& drift, Report& rep, FitInfo& fit) {
+                                    SelectionOptions selection, DriftSelection& drift, Report& rep, FitInfo& fit,
+                                    const ResidualMoments* standardized) {
   DiffusionSelection q;
   q.residuals = folds[0].mom;
   for (std::size_t f = 1; f < folds.size(); ++f) q.residuals.add(folds[f].mom);
   if (est == Estimator::Noisy) {
     const std::size_t L = ds.lags.size();
-    drift.s2 = set_sensor_noise(q.residuals.autocovariance(L - 2) - q.residuals.autocovariance(L - 1), h, drift.corr);
+    const ResidualMoments& m = standardized ? *standardized : q.residuals;
+    drift.s2 = set_sensor_noise(m.white_autocovariance(L - 2) - m.white_autocovariance(L - 1), h, drift.corr);
     fit.sampling.sensor_noise_sd = std::sqrt(drift.s2);
   }
   std::vector<QuadraticStats> qfolds;
@@ -437,7 +440,11 @@ Result identify_terms(const Dataset& data, const Options& options) {
                                    drift.support.size() + static_cast<std::size_t>(dict.psi.size()));
   const auto qstats = diffusion_pass(cx, ds, spans, F, &progress);
   lap("diffusion_pass");
-  const DiffusionSelection diffusion = select_diffusion(qstats, ds, dict, pilot, est, kin.h, selection, drift, rep, fit);
+  // the sensor noise of a state-dependent diffusion from the standardized residuals (as the pilot)
+  std::optional<ResidualMoments> standardized;
+  if (est == Estimator::Noisy && state_dependent(dict.psi)) standardized = standardized_moments(cx, ds, ds.w, spans);
+  const DiffusionSelection diffusion =
+      select_diffusion(qstats, ds, dict, pilot, est, kin.h, selection, drift, rep, fit, standardized ? &*standardized : nullptr);
 
   progress.finish();
   finish_terms(qstats, ds, dict, dstats, drift, diffusion, res);
