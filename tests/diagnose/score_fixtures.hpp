@@ -171,6 +171,15 @@ inline vehs::sim::SimulationOptions sampling_of(const HiddenCase& c, std::uint64
   return o;
 }
 
+/// The forcing's phase of every record of a hidden case with a phase per record (uniform on the circle).
+inline std::vector<double> record_phases_of(const HiddenCase& c, std::uint64_t seed) {
+  std::mt19937_64 rng(sampling_of(c, seed).seed);
+  std::uniform_real_distribution<double> phase(0.0, 2.0 * M_PI);
+  std::vector<double> v;
+  for (int r = 0; r < c.records; ++r) v.push_back(phase(rng));
+  return v;
+}
+
 /// The records of a hidden case: one simulation per record when the phase is random per record.
 inline vehs::Dataset hidden_data(const HiddenCase& c, std::uint64_t seed) {
   vehs::sim::SimulationOptions o = sampling_of(c, seed);
@@ -185,13 +194,12 @@ inline vehs::Dataset hidden_data(const HiddenCase& c, std::uint64_t seed) {
     o.sensor_noise = c.sensor_noise_share * std::sqrt(q / double(pilot.x.size()) - m * m);
   }
   if (!c.phase_per_record) return vehs::sim::simulate(truth_of(c), o);
-  std::mt19937_64 rng(o.seed);
-  std::uniform_real_distribution<double> phase(0.0, 2.0 * M_PI);
+  const std::vector<double> phases = record_phases_of(c, seed);
   vehs::Dataset all;
   o.records = 1;
   for (int r = 0; r < c.records; ++r) {
     o.first_record = std::uint64_t(r);
-    all.append(vehs::sim::simulate(truth_of(c, phase(rng)), o));
+    all.append(vehs::sim::simulate(truth_of(c, phases[std::size_t(r)]), o));
   }
   return all;
 }
