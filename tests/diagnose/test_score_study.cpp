@@ -15,6 +15,8 @@
 // VEHS_SCORE_ORACLE=0: no oracle refit (its z printed as 0; impact_stop's costs 50–70 s a seed).
 // VEHS_SCORE_COARSE=1: the coarse shape (score_fixtures.hpp: coarse(); Δt 0.35, 2 % sensor
 // noise, likelihood-fitted baseline), power only (the loop refits by moments).
+// The per-record forcing's loop refits by the likelihood with a phase per record (as diagnose
+// recommends); VEHS_SCORE_PR_START=suspect starts it from the score suspect's amplitude and ω.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -81,11 +83,21 @@ diagnose::Options loop_options(std::uint64_t seed) {
 
 /// The refit diagnose recommends for a forcing with a phase per record: identify's moment fit with
 /// the forcing, then the likelihood with one phase per record started from every record's own
-/// moment fit (`"likelihood": {"per_record_phase": true}`; as diagnose's confirmation refits it).
-Model per_record_refit(const Dataset& d, const identify::Options& io) {
+/// moment fit (`"likelihood": {"per_record_phase": true}`, as identify-vehs starts it). With
+/// VEHS_SCORE_PR_START=suspect the forcing's amplitude and ω start from the score suspect's
+/// estimate instead, the phases from the likelihood's own scan per record.
+Model per_record_refit(const Dataset& d, const identify::Options& io, const diagnose::ScoreSuspect& suspect) {
   const Model moments = identify::identify(d, io).model;
   likelihood::ObservedModel start{moments, 0.0, {}};
-  likelihood::start_record_phases(start, d, [&](const Dataset& one) { return identify::identify(one, io).model; });
+  const char* how = std::getenv("VEHS_SCORE_PR_START");
+  if (how && std::string(how) == "suspect") {
+    for (Effect& e : start.model.effects)
+      if (e.id == EffectId::HarmonicForcing)
+        for (const char* key : {"amplitude", "omega"})
+          if (suspect.params.count(key)) e.params[key] = suspect.params.at(key);
+  } else {
+    likelihood::start_record_phases(start, d, [&](const Dataset& one) { return identify::identify(one, io).model; });
+  }
   likelihood::RefineOptions ro;
   ro.per_record_phase = true;
   const likelihood::Result r = likelihood::refine(start, d, ro);
@@ -134,7 +146,7 @@ LoopCheck run_loop(const HiddenCase& hc, const Dataset& d, const Outcome& o, std
   added.id = hc.phase_per_record ? EffectId::HarmonicForcing : enum_from_string(kEffectNames, top.effect, "suspect");
   identify::Options io = baseline_options_for(hc);
   io.effects = {added};
-  const Model refit = hc.phase_per_record ? per_record_refit(d, io) : identify::identify(d, io).model;
+  const Model refit = hc.phase_per_record ? per_record_refit(d, io, top) : identify::identify(d, io).model;
   const diagnose::Result r0 = diagnose::diagnose(o.baseline, d, loop_options(seed));
   const diagnose::Result r1 = diagnose::diagnose(refit, d, loop_options(seed + 1000));
   c.adequate = r1.adequate();
