@@ -44,6 +44,7 @@ struct ResidualMoments {
   double n = 0.0, r2 = 0.0, v2 = 0.0;
   std::vector<double> lag_sum, lag_n;
   double lr_sum = 0.0;  // Σ r_j Σ_{l=1..L} r_{j+l}
+  double wsum = 0.0;    // Σ w_j of standardized residuals √w_j·r_j (standardized_moments; else 0)
   ResidualMoments() = default;
   explicit ResidualMoments(std::size_t nlags) : lag_sum(nlags, 0.0), lag_n(nlags, 0.0) {}
   void add(const ResidualMoments& o) {
@@ -51,12 +52,17 @@ struct ResidualMoments {
     r2 += o.r2;
     v2 += o.v2;
     lr_sum += o.lr_sum;
+    wsum += o.wsum;
     for (std::size_t i = 0; i < lag_sum.size(); ++i) lag_sum[i] += o.lag_sum[i], lag_n[i] += o.lag_n[i];
   }
   double autocorrelation(std::size_t l) const {
     return lag_n[l] > 0 && r2 > 0 ? (lag_sum[l] / lag_n[l]) / (r2 / n) : 0.0;
   }
   double autocovariance(std::size_t l) const { return lag_n[l] > 0 ? lag_sum[l] / lag_n[l] : 0.0; }
+  /// The autocovariance in the residuals' own units for a white (state-independent) part: that of
+  /// standardized residuals over their mean weight (E[w_i^½ w_j^½ n_i n_j] ≈ E[w]·C_n(l) when the
+  /// weight varies slowly over the lag).
+  double white_autocovariance(std::size_t l) const { return autocovariance(l) / (wsum > 0 && n > 0 ? wsum / n : 1.0); }
   /// 1 + 2 Σ_{l=1..L} ρ_l
   double long_run_factor() const { return r2 > 0 ? 1.0 + 2.0 * lr_sum / r2 : 1.0; }
 };
@@ -110,6 +116,21 @@ struct DiffusionStats {
     return q;
   }
 };
+
+/// The stiffness ω·h = √|∂b/∂x|·h beyond which a row is not read by standardized_moments: the
+/// lens's expansion in h needs ω·h small (at 0.5 its O((ωh)²) error is a few per cent of â).
+inline constexpr double kLensStiffnessLimit = 0.5;
+
+/// The residual moments at `ds.lags` of the residuals standardized by the diffusion `w.q`
+/// (√w_j·r_j, w_j = 1/max(a22(x_j, v_j), w.floor)) over the rows whose lens stencil (samples
+/// j − k … j + k) stays where ω·h < kLensStiffnessLimit (∂b/∂x of the drift `ds.dm`): the lag
+/// statistics of a state-dependent diffusion, whose rare large-variance rows, thrown into a
+/// stiff wall, would otherwise carry the autocorrelations (pilot.cpp, issue 13). The drift is
+/// refitted on those rows by weighted least squares first (the given fit is pulled by the wall).
+/// Where the stiffness limit would leave out half of the rows or more (coarse sampling, a large
+/// stride: the lens's expansion is what the data are read with) no row is left out.
+ResidualMoments standardized_moments(const Context& cx, const DiffusionSetup& ds, const DiffusionWeights& w,
+                                     const std::vector<Span>& spans);
 
 /// Diffusion statistics of every fold.
 std::vector<DiffusionStats> diffusion_pass(const Context& cx, const DiffusionSetup& ds,

@@ -31,6 +31,13 @@ struct Pilot {
   DiffusionSetup ds;
 };
 
+/// Whether the diffusion library has a term other than the constant (the sampling rule and the
+/// sensor-noise covariance then read residuals standardized by the fitted diffusion).
+bool state_dependent(const Dictionary& psi);
+
+/// The weights of a diffusion fit from the pilot's OLS diffusion: 1/max(a22, 5 % of the mean target).
+DiffusionWeights diffusion_weights(const Pilot& p);
+
 /// The uncorrected full-library drift fit, residual autocorrelations and OLS diffusion fit at
 /// `kin` on at most ~pilot_rows rows.
 Pilot run_pilot(const Dataset& d, const Dictionary& phi, const Dictionary& psi, const Kinematics& kin,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -167,9 +168,8 @@ DiffusionSetup diffusion_setup(const Pilot& pilot, const DriftModel& dm, Estimat
   DiffusionSetup ds;
   ds.target = target_of(est);
   ds.dm = dm;
+  ds.w = diffusion_weights(pilot);
   ds.w.weighted = est != Estimator::Paper;
-  ds.w.q = pilot.q;
-  ds.w.floor = std::max(0.05 * std::abs(pilot.mean_z), 1e-300);
   ds.lags = {1, 2, 3};
   if (k > 3) ds.lags.push_back(k);
   ds.lags.push_back(2 * k);
@@ -313,13 +313,15 @@ struct DiffusionSelection {
 
 DiffusionSelection select_diffusion(const std::vector<DiffusionStats>& folds, const DiffusionSetup& ds,
                                     const Dictionaries& dict, const Pilot& pilot, Estimator est, double h,
-                                    SelectionOptions selection, DriftSelection& drift, Report& rep, FitInfo& fit) {
+                                    SelectionOptions selection, DriftSelection& drift, Report& rep, FitInfo& fit,
+                                    const ResidualMoments* standardized) {
   DiffusionSelection q;
   q.residuals = folds[0].mom;
   for (std::size_t f = 1; f < folds.size(); ++f) q.residuals.add(folds[f].mom);
   if (est == Estimator::Noisy) {
     const std::size_t L = ds.lags.size();
-    drift.s2 = set_sensor_noise(q.residuals.autocovariance(L - 2) - q.residuals.autocovariance(L - 1), h, drift.corr);
+    const ResidualMoments& m = standardized ? *standardized : q.residuals;
+    drift.s2 = set_sensor_noise(m.white_autocovariance(L - 2) - m.white_autocovariance(L - 1), h, drift.corr);
     fit.sampling.sensor_noise_sd = std::sqrt(drift.s2);
   }
   std::vector<QuadraticStats> qfolds;
@@ -367,7 +369,7 @@ void set_sign_smoothing(Dictionaries& dict, const Pilot& pilot, Estimator est, d
   TermList a22;
   for (int j = 0; j < dict.psi.size(); ++j) a22.push_back({dict.psi.term(j), pilot.q[j]});
   const double var_v_noise = est == Estimator::Noisy ? std::max(pilot.C2k - pilot.C3k, 0.0) * h * h / 2.0 : 0.0;
-  dict.phi.set_sign_smoothing(h, a22, std::max(0.05 * std::abs(pilot.mean_z), 1e-300), var_v_noise);
+  dict.phi.set_sign_smoothing(h, a22, diffusion_weights(pilot).floor, var_v_noise);
 }
 
 std::size_t shortest_record(const Dataset& data) {
@@ -438,7 +440,11 @@ Result identify_terms(const Dataset& data, const Options& options) {
                                    drift.support.size() + static_cast<std::size_t>(dict.psi.size()));
   const auto qstats = diffusion_pass(cx, ds, spans, F, &progress);
   lap("diffusion_pass");
-  const DiffusionSelection diffusion = select_diffusion(qstats, ds, dict, pilot, est, kin.h, selection, drift, rep, fit);
+  // the sensor noise of a state-dependent diffusion from the standardized residuals (as the pilot)
+  std::optional<ResidualMoments> standardized;
+  if (est == Estimator::Noisy && state_dependent(dict.psi)) standardized = standardized_moments(cx, ds, ds.w, spans);
+  const DiffusionSelection diffusion =
+      select_diffusion(qstats, ds, dict, pilot, est, kin.h, selection, drift, rep, fit, standardized ? &*standardized : nullptr);
 
   progress.finish();
   finish_terms(qstats, ds, dict, dstats, drift, diffusion, res);

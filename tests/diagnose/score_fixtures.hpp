@@ -199,27 +199,41 @@ inline vehs::sim::SimulationOptions sampling_of(const HiddenCase& c, std::uint64
   return o;
 }
 
+/// The forcing's phase of every record of a hidden case with a phase per record (uniform on the circle).
+inline std::vector<double> record_phases_of(const HiddenCase& c, std::uint64_t seed) {
+  std::mt19937_64 rng(sampling_of(c, seed).seed);
+  std::uniform_real_distribution<double> phase(0.0, 2.0 * M_PI);
+  std::vector<double> v;
+  for (int r = 0; r < c.records; ++r) v.push_back(phase(rng));
+  return v;
+}
+
+inline vehs::Dataset hidden_data(const HiddenCase& c, std::uint64_t seed);
+
+/// The sd of a case's white sensor noise: its share of std(x) of a noise-free pilot of 4 records.
+inline double sensor_noise_of(const HiddenCase& c, std::uint64_t seed) {
+  if (!(c.sensor_noise_share > 0.0)) return 0.0;
+  HiddenCase clean = c;
+  clean.sensor_noise_share = 0.0;
+  clean.records = 4;
+  const vehs::Dataset pilot = hidden_data(clean, seed + 1000003);
+  double m = 0.0, q = 0.0;
+  for (double x : pilot.x) m += x, q += x * x;
+  m /= double(pilot.x.size());
+  return c.sensor_noise_share * std::sqrt(q / double(pilot.x.size()) - m * m);
+}
+
 /// The records of a hidden case: one simulation per record when the phase is random per record.
 inline vehs::Dataset hidden_data(const HiddenCase& c, std::uint64_t seed) {
   vehs::sim::SimulationOptions o = sampling_of(c, seed);
-  if (c.sensor_noise_share > 0.0) {  // 2 % of std(x) of a noise-free pilot of 4 records
-    HiddenCase clean = c;
-    clean.sensor_noise_share = 0.0;
-    clean.records = 4;
-    const vehs::Dataset pilot = hidden_data(clean, seed + 1000003);
-    double m = 0.0, q = 0.0;
-    for (double x : pilot.x) m += x, q += x * x;
-    m /= double(pilot.x.size());
-    o.sensor_noise = c.sensor_noise_share * std::sqrt(q / double(pilot.x.size()) - m * m);
-  }
+  o.sensor_noise = sensor_noise_of(c, seed);
   if (!c.phase_per_record) return vehs::sim::simulate(truth_of(c), o);
-  std::mt19937_64 rng(o.seed);
-  std::uniform_real_distribution<double> phase(0.0, 2.0 * M_PI);
+  const std::vector<double> phases = record_phases_of(c, seed);
   vehs::Dataset all;
   o.records = 1;
   for (int r = 0; r < c.records; ++r) {
     o.first_record = std::uint64_t(r);
-    all.append(vehs::sim::simulate(truth_of(c, phase(rng)), o));
+    all.append(vehs::sim::simulate(truth_of(c, phases[std::size_t(r)]), o));
   }
   return all;
 }
