@@ -461,7 +461,9 @@ void resolve_look_alikes(const Context& c, ScoreSuspectReport& rep, const std::o
   if (at.size() != 2 || !rep.ranked[at[0]].significant || !rep.ranked[at[1]].significant) return;
   std::string text;
   try {
+    const auto t0 = std::chrono::steady_clock::now();
     const likelihood::Result fit[2] = {refit_from(c, g.member[0].start), refit_from(c, g.member[1].start)};
+    const double refit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double lr = 2.0 * (fit[0].log_likelihood - fit[1].log_likelihood);
     const std::size_t pref = lr >= 0.0 ? 0 : 1, other = 1 - pref;
     const Verdict v = g.verdict(fit, pref);
@@ -481,6 +483,7 @@ void resolve_look_alikes(const Context& c, ScoreSuspectReport& rep, const std::o
     if (!v.resolved) first.not_resolved_from = {second.effect}, second.not_resolved_from = {first.effect};
     first.test += text, second.test += text;
     first.look_alikes = second.look_alikes = compared;
+    first.seconds += 0.5 * refit_seconds, second.seconds += 0.5 * refit_seconds;
     rep.ranked.erase(rep.ranked.begin() + long(at[1]));
     rep.ranked.erase(rep.ranked.begin() + long(at[0]));
     // the group stays together: the other form right after the preferred one

@@ -82,7 +82,7 @@ struct ScoreSuspect {
   double null_claim_rate = 0.0; ///< probability of a claim under the model (α / effects)
   double power = 0.0;           ///< probability of a claim under the fitted alternative
   std::string detectable;       ///< "mu >= 0.012" (90 % power), empty when not defined
-  double seconds = 0.0;         ///< wall time of its filter passes
+  double seconds = 0.0;         ///< wall time of its filter passes (and half its look-alike group's refits)
   /// Look-alike effects these data do not tell apart from this one (named with it as one group;
   /// empty: none significant, or resolved — see `test`).
   std::vector<std::string> not_resolved_from;
