@@ -476,8 +476,12 @@ void resolve_look_alikes(const Context& c, ScoreSuspectReport& rep, const std::o
     else
       text += ": " + g.what + ", " + a + " or " + b + ", not resolved by these data (need " +
               (v.need < 1e4 ? "about " + fmt(v.need, 2) + "x" : "far more than 1e4x") + " the data)";
-    const ScoreSuspect::LookAlikes compared{{g.member[pref].effect, g.member[other].effect}, std::abs(lr), v.resolved,
-                                           v.resolved ? 0.0 : v.need, v.rule};
+    const ScoreSuspect::LookAlikes compared{{g.member[pref].effect, g.member[other].effect},
+                                           {fit[pref].log_likelihood, fit[other].log_likelihood},
+                                           std::abs(lr),
+                                           v.resolved,
+                                           v.resolved ? 0.0 : v.need,
+                                           v.rule};
     const bool pref_first = rep.ranked[at[0]].effect == g.member[pref].effect;
     ScoreSuspect first = rep.ranked[pref_first ? at[0] : at[1]], second = rep.ranked[pref_first ? at[1] : at[0]];
     if (!v.resolved) first.not_resolved_from = {second.effect}, second.not_resolved_from = {first.effect};

@@ -89,6 +89,7 @@ struct ScoreSuspect {
   /// Present on the members of a look-alike group whose refits were compared (else empty).
   struct LookAlikes {
     std::vector<std::string> compared;  ///< the members, the one with the larger refit likelihood first
+    std::vector<double> log_likelihoods;  ///< of the refits, in `compared`'s order
     double two_delta_log_l = 0.0;       ///< 2ΔlogL of the first's refit over the second's (≥ 0)
     bool resolved = false;              ///< the first is named alone
     double data_needed = 0.0;           ///< multiple of these data that resolves them with 90 % power (unresolved)
