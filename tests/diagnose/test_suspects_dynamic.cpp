@@ -214,14 +214,14 @@ TEST_CASE("suspects: a hidden OU (coloured) excitation is ranked first and signi
   //  * monostable: held out first in 11 of 20 (z 3.1 ± 1.0); the score z's alone put colored_noise
   //    ahead of electromechanical_coupling by only 0.95 ± 0.44 (1.6 % the wrong way round, the
   //    former KNOWN WEAKNESS). Both are significant in every shift, so their refits are compared:
-  //    colored_noise first in 12 of 12 shifts (alone in 11), 2ΔlogL 7.2, 22.6 … 44.2, 214; plus the
-  //    shift both old rankings missed (intensity 0.03, shift 7): 19.6. √(2ΔlogL) (≈ normal, sd 1
-  //    asymptotically) 5.49 ± sd 1.10 without the one high value: P(< 0) ≈ 3e-7 (normal fit); with
-  //    it, 6.25 ± 2.84 (the sd inflated by the harmless upper tail): 1.4 % — 12 shifts are thin
-  //    evidence for the lower tail (the held-out ranking must also fall short, ≈ 45 % here).
+  //    colored_noise first in 13 of 13 shifts (alone in 12), 2ΔlogL 7.2, 14.7, 22.6 … 44.2, 214;
+  //    plus the shift both old rankings missed (intensity 0.03, shift 7): 19.6. √(2ΔlogL) (≈ normal,
+  //    sd 1 asymptotically) 5.35 ± sd 1.15 without the one high value: P(< 0) ≈ 2e-6 (normal fit);
+  //    with it, 6.06 ± 2.80 (the sd inflated by the harmless upper tail): 1.5 % — 13 shifts are
+  //    thin evidence for the lower tail (the held-out ranking must also fall short, ≈ 45 % here).
   // colored_noise's z above the claim's (≈ 3.1: α = 0.01 over the tested effects, Bonferroni over
   // the τ grid): bistable 8.5 ± 1.4 (min 5.7), monostable 10.9 ± 1.3 (min 8.3): ≥ 6.2 sd,
-  // P(not significant) ≤ 3e-10. Per run: ≤ 1.3e-5 bistable, ≈ 3e-7 monostable (normal fits), at the corner,
+  // P(not significant) ≤ 3e-10. Per run: ≤ 1.3e-5 bistable, ≈ 2e-6 monostable (normal fits), at the corner,
   // the worst of the drawn range.
   bool first = r.ranked[0].effect == "colored_noise", significant = first && r.ranked[0].held_out_significant;
   if (!significant) {
