@@ -8,6 +8,7 @@
 #include <exception>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string_view>
 
 #include <Eigen/Dense>
@@ -326,19 +327,48 @@ std::pair<ScoreSuspect, ScoreSuspect> forcing_scans(const Context& c) {
   return {shared, local};
 }
 
-/// The model plus one look-alike's drift term, refitted by the likelihood (every parameter free).
-likelihood::Result refit_with(const Context& c, const LookAlike& a) {
-  Model m = c.model;
-  m.drift.push_back({a.term, a.sign * a.coefficient > 0.0 ? a.coefficient : a.sign * 1e-3});
-  canonicalize(m.drift, "score suspects");
+/// A member of a look-alike group: its effect, its label in the text (the damping's term, the
+/// hidden state's effect) and the model plus it at the score test's one-step estimate — the
+/// start of its refit.
+struct Member {
+  std::string effect, label;
+  Model start;
+};
+
+/// What a group's rule makes of the two refits: the better member named alone or not, the
+/// multiple of these data that would resolve them with 90 % power, the evidence (text) and the
+/// rule (one line).
+struct Verdict {
+  bool resolved = false;
+  double need = 0.0;
+  std::string text, rule;
+};
+
+/// Look-alike effects compared by the likelihood of their refits: the group's name (what the
+/// data do say when they do not tell the members apart), the members, and the rule that names
+/// the better one (`fit[better]` has the larger likelihood) alone.
+struct LookAlikeGroup {
+  std::string what;
+  Member member[2];
+  std::function<Verdict(const likelihood::Result (&fit)[2], std::size_t better)> verdict;
+};
+
+/// The multiple of the data at which a statistic z (growing as √N) reaches z_crit + Φ⁻¹(0.9):
+/// 90 % power.
+double data_needed(double z, double z_crit) {
+  return z > 0.0 ? std::pow((z_crit + kZ90) / z, 2) : std::numeric_limits<double>::infinity();
+}
+
+/// The model `start` (the model plus one member) refitted by the likelihood, every parameter free.
+likelihood::Result refit_from(const Context& c, Model start) {
   likelihood::RefineOptions o;
   o.filter = c.test_options.filter;
   o.estimate_measurement_noise = c.measurement_sd > 0.0;
   o.measurement_sd_start = c.measurement_sd;
   o.covariance = likelihood::Covariance::Fisher;
-  likelihood::ObservedModel start = observed(c, std::move(m), c.data);
-  o.per_record_phase = !start.record_phases.empty();
-  return likelihood::refine(start, c.data, o);
+  likelihood::ObservedModel om = observed(c, std::move(start), c.data);
+  o.per_record_phase = !om.record_phases.empty();
+  return likelihood::refine(om, c.data, o);
 }
 
 /// The score z of `a`'s parameter (≥ 0) added at 0 to the refit `fit` of the other form: what
@@ -350,46 +380,118 @@ double added_z(const Context& c, const likelihood::Result& fit, const LookAlike&
   return a.sign * likelihood::score_test(om, c.data, {a.param}, c.test_options).z;
 }
 
-/// When both look-alikes are significant: the likelihood ratio of the two one-effect refits
-/// (one parameter each, so 2ΔlogL compares them fairly) says which form the data prefer, and
-/// each form is score-tested added to the other's refit. The preferred form is named alone only
-/// when it adds significantly (one-sided, level alpha) to the other's refit and the other adds
-/// nothing significant to its own; else both are named as one group, the preferred first, with
-/// the data (multiple of these samples) that would resolve them with 90 % power.
-void resolve_look_alikes(const Context& c, ScoreSuspectReport& rep, const std::vector<LookAlike>& alikes) {
-  if (alikes.size() != 2) return;
+/// The damping look-alikes y·|y| and y³ (one parameter each): each form is score-tested added to
+/// the other's refit; the better one is named alone only when it adds significantly (one-sided,
+/// level alpha) to the other's refit and the other adds nothing significant to its own.
+std::optional<LookAlikeGroup> damping_group(const Context& c, const std::vector<LookAlike>& alikes) {
+  if (alikes.size() != 2) return std::nullopt;
+  LookAlikeGroup g;
+  g.what = "damping that grows faster than linear";
+  for (std::size_t i = 0; i < 2; ++i) {
+    const LookAlike& a = alikes[i];
+    Model m = c.model;
+    m.drift.push_back({a.term, a.sign * a.coefficient > 0.0 ? a.coefficient : a.sign * 1e-3});
+    canonicalize(m.drift, "score suspects");
+    g.member[i] = {a.effect, a.term.name(), std::move(m)};
+  }
+  g.verdict = [&c, alikes](const likelihood::Result (&fit)[2], std::size_t better) {
+    const std::size_t other = 1 - better;
+    const double z_pref = added_z(c, fit[other], alikes[better]), z_other = added_z(c, fit[better], alikes[other]);
+    const double zc = normal_isf(c.options.alpha);
+    const std::string& a = alikes[better].term.name();
+    const std::string& b = alikes[other].term.name();
+    Verdict v;
+    v.resolved = z_pref > zc && !(z_other > zc);
+    v.need = data_needed(z_pref, zc);
+    v.text = ", " + a + " added to the " + b + " refit z = " + fmt(z_pref, 3) + ", " + b + " added to the " + a +
+             " refit z = " + fmt(z_other, 3);
+    v.rule = "the first named alone when it adds to the other's refit with one-sided z > " + fmt(zc, 3) +
+             " and the other adds to its refit no z above that";
+    return v;
+  };
+  return g;
+}
+
+/// The two hidden states, colored_noise (driven by noise) and electromechanical_coupling (driven
+/// by the velocity), from their scanned score tests (the start: the estimate at the chosen τ or
+/// λ). Two parameters each, so their refits compare by 2ΔlogL directly; the better one is named
+/// alone when 2ΔlogL > 2 ln(grid/alpha) (false naming ≤ alpha: score_suspects.hpp).
+std::optional<LookAlikeGroup> hidden_state_group(const Context& c, const ScoreSuspectReport& rep) {
+  struct Spec {
+    EffectId id;
+    const char *tested, *scan;
+  };
+  const Spec specs[2] = {{EffectId::ColoredNoise, "intensity", "tau"},
+                         {EffectId::ElectromechanicalCoupling, "coupling", "lambda"}};
+  LookAlikeGroup g;
+  g.what = "a hidden state, driven by noise or by the velocity";
+  for (std::size_t i = 0; i < 2; ++i) {
+    const std::string name = enum_to_string(kEffectNames, specs[i].id);
+    const auto s = std::find_if(rep.ranked.begin(), rep.ranked.end(), [&](const ScoreSuspect& x) { return x.effect == name; });
+    if (s == rep.ranked.end() || !s->params.count(specs[i].tested) || !s->params.count(specs[i].scan)) return std::nullopt;
+    const double est = s->params.at(specs[i].tested);
+    Model m = c.model;
+    m.effects.push_back({specs[i].id, {{specs[i].tested, est > 0.0 ? est : 1e-3}, {specs[i].scan, s->params.at(specs[i].scan)}}, {}});
+    g.member[i] = {name, name, std::move(m)};
+  }
+  const double threshold = 2.0 * std::log(double(c.options.grid) / c.options.alpha);
+  g.verdict = [threshold](const likelihood::Result (&fit)[2], std::size_t better) {
+    const double lr = 2.0 * (fit[better].log_likelihood - fit[1 - better].log_likelihood);
+    Verdict v;
+    v.resolved = lr > threshold;
+    v.need = data_needed(std::sqrt(lr), std::sqrt(threshold));
+    v.text = " (two parameters each; named alone above " + fmt(threshold, 3) + ")";
+    v.rule = "the first named alone when 2 dlogL > 2 ln(grid/alpha) = " + fmt(threshold, 3) +
+             " (the other named wrongly with probability <= alpha)";
+    return v;
+  };
+  return g;
+}
+
+/// When both members of a look-alike group are significant: both refitted by the likelihood and
+/// ranked by it; the group's rule says whether the better one is named alone, else both are
+/// named as one group (`not_resolved_from`), the better first, with the data (multiple of these
+/// samples) that would resolve them with 90 % power.
+void resolve_look_alikes(const Context& c, ScoreSuspectReport& rep, const std::optional<LookAlikeGroup>& group) {
+  if (!group) return;
+  const LookAlikeGroup& g = *group;
   std::vector<std::size_t> at;  // their places in the ranking, best first
   for (std::size_t i = 0; i < rep.ranked.size(); ++i)
-    if (rep.ranked[i].effect == alikes[0].effect || rep.ranked[i].effect == alikes[1].effect) at.push_back(i);
+    if (rep.ranked[i].effect == g.member[0].effect || rep.ranked[i].effect == g.member[1].effect) at.push_back(i);
   if (at.size() != 2 || !rep.ranked[at[0]].significant || !rep.ranked[at[1]].significant) return;
   std::string text;
   try {
-    const likelihood::Result fit[2] = {refit_with(c, alikes[0]), refit_with(c, alikes[1])};
+    const auto t0 = std::chrono::steady_clock::now();
+    const likelihood::Result fit[2] = {refit_from(c, g.member[0].start), refit_from(c, g.member[1].start)};
+    const double refit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double lr = 2.0 * (fit[0].log_likelihood - fit[1].log_likelihood);
     const std::size_t pref = lr >= 0.0 ? 0 : 1, other = 1 - pref;
-    const double z_pref = added_z(c, fit[other], alikes[pref]), z_other = added_z(c, fit[pref], alikes[other]);
-    const double zc = normal_isf(c.options.alpha);
-    const bool resolved = z_pref > zc && !(z_other > zc);
-    const std::string& a = alikes[pref].term.name();
-    const std::string& b = alikes[other].term.name();
+    const Verdict v = g.verdict(fit, pref);
+    const std::string& a = g.member[pref].label;
+    const std::string& b = g.member[other].label;
     text = "; look-alikes refitted by the likelihood: 2 dlogL = " + fmt(std::abs(lr), 3) + " for " + a + " over " + b +
-           ", " + a + " added to the " + b + " refit z = " + fmt(z_pref, 3) + ", " + b + " added to the " + a +
-           " refit z = " + fmt(z_other, 3);
-    if (resolved) {
+           v.text;
+    if (v.resolved)
       text += ": " + a + " resolved";
-    } else {
-      const double need = z_pref > 0.0 ? std::pow((zc + kZ90) / z_pref, 2) : std::numeric_limits<double>::infinity();
-      text += ": damping that grows faster than linear, " + a + " or " + b + ", not resolved by these data (need " +
-              (need < 1e4 ? "about " + fmt(need, 2) + "x" : "far more than 1e4x") + " the data)";
-    }
-    ScoreSuspect first = rep.ranked[at[0]].effect == alikes[pref].effect ? rep.ranked[at[0]] : rep.ranked[at[1]];
-    ScoreSuspect second = rep.ranked[at[0]].effect == alikes[pref].effect ? rep.ranked[at[1]] : rep.ranked[at[0]];
-    if (!resolved) first.not_resolved_from = {second.effect}, second.not_resolved_from = {first.effect};
+    else
+      text += ": " + g.what + ", " + a + " or " + b + ", not resolved by these data (need " +
+              (v.need < 1e4 ? "about " + fmt(v.need, 2) + "x" : "far more than 1e4x") + " the data)";
+    const ScoreSuspect::LookAlikes compared{{g.member[pref].effect, g.member[other].effect},
+                                           {fit[pref].log_likelihood, fit[other].log_likelihood},
+                                           std::abs(lr),
+                                           v.resolved,
+                                           v.resolved ? 0.0 : v.need,
+                                           v.rule};
+    const bool pref_first = rep.ranked[at[0]].effect == g.member[pref].effect;
+    ScoreSuspect first = rep.ranked[pref_first ? at[0] : at[1]], second = rep.ranked[pref_first ? at[1] : at[0]];
+    if (!v.resolved) first.not_resolved_from = {second.effect}, second.not_resolved_from = {first.effect};
     first.test += text, second.test += text;
+    first.look_alikes = second.look_alikes = compared;
+    first.seconds += 0.5 * refit_seconds, second.seconds += 0.5 * refit_seconds;
     rep.ranked.erase(rep.ranked.begin() + long(at[1]));
     rep.ranked.erase(rep.ranked.begin() + long(at[0]));
     // the group stays together: the other form right after the preferred one
-    const std::size_t second_at = resolved ? at[1] - 1 : at[0];
+    const std::size_t second_at = v.resolved ? at[1] - 1 : at[0];
     rep.ranked.insert(rep.ranked.begin() + long(at[0]), std::move(first));
     rep.ranked.insert(rep.ranked.begin() + long(second_at) + 1, std::move(second));
   } catch (const std::exception& e) {
@@ -532,7 +634,8 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
     if (a.log_p != b.log_p) return a.log_p < b.log_p;
     return a.statistic / a.dof > b.statistic / b.dof;
   });
-  resolve_look_alikes(c, rep, look_alikes);
+  resolve_look_alikes(c, rep, damping_group(c, look_alikes));
+  resolve_look_alikes(c, rep, hidden_state_group(c, rep));
   return rep;
 }
 

@@ -116,6 +116,11 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
     e["power"] = num(s.power);
     if (!s.detectable.empty()) e["detectable"] = s.detectable;
     if (!s.not_resolved_from.empty()) e["not_resolved_from"] = s.not_resolved_from;
+    if (const auto& la = s.look_alikes; !la.compared.empty())
+      e["look_alikes"] = {{"compared", la.compared},       {"log_likelihoods", la.log_likelihoods},
+                          {"two_delta_log_l", num(la.two_delta_log_l)},
+                          {"resolved", la.resolved},       {"data_needed", num(la.data_needed)},
+                          {"rule", la.rule}};
     score.push_back(e);
   }
   j["score_suspects"] = score;

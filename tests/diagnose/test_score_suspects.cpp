@@ -65,7 +65,11 @@ TEST_CASE("score suspects: nothing is claimed on data from the baseline's own fa
 // per-record forcing 10.0 vs 2.1. A claim needs z ≈ 3.1–3.6 (alpha 0.01 over 10 effects and the
 // scans): a miss needs a fall of ≥ 5.4 SD (P ≤ 3e-8); a wrong first needs the runner-up to
 // overtake by ≥ 5.3 (electrical state vs OU, the closest pair) with the difference's SD ≈ √2:
-// P ≤ Φ(−3.75) = 9e-5. For coulomb_friction the suspect's z must also be ≥ 0.7× the oracle's
+// P ≤ Φ(−3.75) = 9e-5. Both hidden states are significant in both of their cases, so their
+// refits are compared (the look-alike group, score_suspects.hpp): 2ΔlogL 606 (colored_noise) and
+// 81.1 (electromechanical_coupling) for the true state; it must be named alone (2ΔlogL above
+// 2 ln(6/0.01) = 12.8): with √(2ΔlogL) ≈ N(√λ, 1), a fall below √12.8 = 3.6 from 9.0 (the
+// closer case) is 5.4 SD (P ≤ 4e-8). For coulomb_friction the suspect's z must also be ≥ 0.7× the oracle's
 // (the likelihood refitted with the friction): score and Wald z differ by O(z²/√n), measured
 // 0.995× and 0.994× (two sizes), so the check fails only for a broken score test.
 TEST_CASE("score suspects: a hidden effect is named first and significant, z near the oracle's",
@@ -84,6 +88,11 @@ TEST_CASE("score suspects: a hidden effect is named first and significant, z nea
     tally(name + " seconds", o.seconds);
     CHECK(o.report.ranked.front().effect == name);
     CHECK(o.report.ranked.front().significant);
+    if (const auto& la = o.report.ranked.front().look_alikes; !la.compared.empty()) {
+      tally(name + " look-alike refits 2dlogL", la.compared.front() == name ? la.two_delta_log_l : -la.two_delta_log_l);
+      CHECK(la.resolved);
+    }
+    if (name == "colored_noise" || name == "electromechanical_coupling") CHECK(o.report.ranked.front().not_resolved_from.empty());
     if (name == "coulomb_friction") {
       const double oracle = oracle_z(hc, d);
       INFO("oracle z " << oracle);

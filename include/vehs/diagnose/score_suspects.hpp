@@ -24,6 +24,15 @@
 //    These three, and the forcing below, are what tells a hidden state driven by noise
 //    (colored_noise) from one driven by the velocity (electromechanical_coupling) from a
 //    deterministic force: each is a likelihood of the filter over its own hidden state.
+//    The two hidden states are look-alikes too (on a monostable potential at τ ≈ 1 their score
+//    z's differ by < 1): when both are significant, the model plus each one is refitted by the
+//    likelihood (every parameter free, started from the score tests' estimates) and the refits
+//    (two parameters each) are ranked by 2ΔlogL. The better one is named alone only when 2ΔlogL
+//    > 2 ln(grid/alpha): with the other true, 2ΔlogL is at most the likelihood ratio of the
+//    model plus both against the true one, ≈ χ²₂ with its τ or λ scanned, so it names the wrong
+//    one with probability ≤ grid · e^{−threshold/2} = alpha. Else the two are one group
+//    ("a hidden state", `not_resolved_from`), the better one first.
+//  In both groups `look_alikes` (on each member) says what was compared and the verdict.
 //  * harmonic_forcing: a force a·cos(ωt + φ) moves the one-step predictions by a sinusoid at
 //    ω, so the score of (a cos φ, a sin φ) at frequency ω is the Fourier coefficient of the
 //    whitened innovations e_k/√S_k of the model's filter. With one phase for every record (in
@@ -73,10 +82,20 @@ struct ScoreSuspect {
   double null_claim_rate = 0.0; ///< probability of a claim under the model (α / effects)
   double power = 0.0;           ///< probability of a claim under the fitted alternative
   std::string detectable;       ///< "mu >= 0.012" (90 % power), empty when not defined
-  double seconds = 0.0;         ///< wall time of its filter passes
+  double seconds = 0.0;         ///< wall time of its filter passes (and half its look-alike group's refits)
   /// Look-alike effects these data do not tell apart from this one (named with it as one group;
   /// empty: none significant, or resolved — see `test`).
   std::vector<std::string> not_resolved_from;
+  /// Present on the members of a look-alike group whose refits were compared (else empty).
+  struct LookAlikes {
+    std::vector<std::string> compared;  ///< the members, the one with the larger refit likelihood first
+    std::vector<double> log_likelihoods;  ///< of the refits, in `compared`'s order
+    double two_delta_log_l = 0.0;       ///< 2ΔlogL of the first's refit over the second's (≥ 0)
+    bool resolved = false;              ///< the first is named alone
+    double data_needed = 0.0;           ///< multiple of these data that resolves them with 90 % power (unresolved)
+    std::string rule;                   ///< one line: what "resolved" means here
+  };
+  LookAlikes look_alikes;
 };
 
 struct ScoreSuspectReport {
