@@ -100,10 +100,11 @@ Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const
     for (Effect& e : out.model.effects)
       if (e.id == EffectId::HarmonicForcing) e.params = model.find_effect(EffectId::HarmonicForcing)->params;
   likelihood::ObservedModel start{out.model, lf.measurement_sd, phases};
-  if (phases.empty() && added_per_record)  // each record's own moment fit: its phase (as identify-vehs)
-    likelihood::start_record_phases(start, train, [&](const Dataset& one) { return identify::identify(one, io).model; });
   likelihood::RefineOptions ro;
   ro.filter.input = model.fit->input;
+  if (phases.empty() && added_per_record)  // each record's own moment fit: its phase (as identify-vehs)
+    likelihood::start_record_phases(start, train, [&](const Dataset& one) { return identify::identify(one, io).model; },
+                                    ro.filter);
   ro.covariance = likelihood::Covariance::Fisher;
   ro.estimate_measurement_noise = lf.measurement_sd > 0.0;
   ro.measurement_sd_start = lf.measurement_sd;

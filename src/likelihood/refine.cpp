@@ -14,6 +14,7 @@
 #include "vehs/likelihood/detail/bias_correction.hpp"
 #include "vehs/likelihood/detail/domain.hpp"
 #include "vehs/likelihood/detail/evaluator.hpp"
+#include "vehs/likelihood/detail/phase_scan.hpp"
 #include "vehs/likelihood/detail/selection.hpp"
 
 namespace vehs::likelihood {
@@ -330,33 +331,6 @@ void repair_start(ObservedModel& start, const Dataset& data, const FilterOptions
   }
 }
 
-/// Per-record phase scan (harmonic_forcing with one phase per record, records started at
-/// unrelated times). The likelihood is periodic in every phase with side optima, and the
-/// optimiser is local: every record's phase starts at the best of kPhaseGrid equally spaced
-/// values around its given start (the given start included), the shared parameters at their
-/// start values. Records are independent given the shared parameters, so one filter pass per
-/// grid value scores every record at once.
-void scan_record_phases(ObservedModel& start, const Dataset& data, const RefineOptions& o,
-                        const detail::FitChoice& choice) {
-  constexpr int kPhaseGrid = 12;
-  const detail::Parameterization p(start, choice, data.records.size(), "likelihood");
-  const Evaluator ev(p, data, o.filter, "likelihood");
-  const std::size_t R = data.records.size();
-  std::vector<double> theta = p.initial(), per_record, best(R, -INFINITY), best_phase(R);
-  for (std::size_t r = 0; r < R; ++r) best_phase[r] = theta[p.phase_index(r)];
-  const std::vector<double> given = best_phase;
-  for (int j = 0; j < kPhaseGrid; ++j) {
-    for (std::size_t r = 0; r < R; ++r) theta[p.phase_index(r)] = given[r] + 2.0 * M_PI * j / kPhaseGrid;
-    if (!ev.record_values(theta.data(), per_record, nullptr)) continue;
-    for (std::size_t r = 0; r < R; ++r)
-      if (per_record[r] > best[r]) {
-        best[r] = per_record[r];
-        best_phase[r] = std::remainder(theta[p.phase_index(r)], 2.0 * M_PI);
-      }
-  }
-  start.record_phases = best_phase;
-}
-
 }  // namespace
 
 namespace detail {
@@ -461,7 +435,7 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
     if (!(first.measurement_sd > 0.0)) throw Error("likelihood: the records have zero variance");
   }
   repair_start(first, data, options.filter);
-  if (options.per_record_phase) scan_record_phases(first, data, options, choice);
+  if (options.per_record_phase) detail::scan_record_phases(first, data, options.filter, choice);
   Result res = options.select ? detail::select_support(first, data, options, choice)
                               : detail::fit_support(first, data, options, choice, true);
   detail::respect_domain(res);  // a negative amplitude flipped, other estimates outside the catalogue refused

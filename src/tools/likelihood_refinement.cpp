@@ -129,7 +129,7 @@ Refinement refine_moment_fit(Model& model, const Dataset& data, const Likelihood
   if (model.fit) start.measurement_sd = model.fit->sampling.sensor_noise_sd;
   if (o.per_record_phase && !model.find_effect(EffectId::HarmonicForcing))
     throw Error("likelihood.per_record_phase: the model has no harmonic_forcing effect (list it in 'effects')");
-  if (o.per_record_phase) likelihood::start_record_phases(start, data, moment_fit);
+  if (o.per_record_phase) likelihood::start_record_phases(start, data, moment_fit, o.filter);
   out.result = likelihood::refine(start, data, o);
   const likelihood::Result& r = *out.result;
   FitInfo fit = model.fit ? *model.fit : FitInfo{};
