@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <vector>
+
+#include <unsupported/Eigen/FFT>
 
 #include "vehs/core/error.hpp"
 #include "vehs/likelihood/detail/phase_scan.hpp"
@@ -22,15 +25,68 @@ struct RecordForcing {
   double omega, amplitude;
 };
 
-/// Candidate (omega, amplitude) starts: the medians, then the frequencies most records agree on
-/// (the most other records within 3 %; a record's own fit of a weak forcing often lands on a
-/// noise peak, and the median of such frequencies is none of them), each with the median
-/// amplitude of the records that agree with it.
-std::vector<RecordForcing> candidate_forcings(const std::vector<RecordForcing>& own, std::size_t max_candidates) {
+/// The frequencies (rad per time unit) of the `count` strongest narrow lines in the records'
+/// summed periodogram of x: each record's mean removed, Hann-windowed and zero-padded to a common
+/// length (4× the longest record), |X|² summed over the records (their phases differ, so powers
+/// add), each bin divided by the median of the 64 bins around it (the broadband response), the
+/// local maxima of that ratio ranked. A forcing no single record resolves shows as a line once the
+/// records are summed. Empty when the records do not share one sampling interval.
+std::vector<double> spectral_lines(const Dataset& data, std::size_t count) {
+  const double dt = data.records.front().dt;
+  std::size_t longest = 0;
+  for (const auto& r : data.records) {
+    if (r.dt != dt) return {};
+    longest = std::max(longest, r.size);
+  }
+  std::size_t L = 1;
+  while (L < 4 * longest) L *= 2;
+  const std::size_t half = L / 2;
+  std::vector<double> power(half + 1, 0.0), buf(L);
+  std::vector<std::complex<double>> spec;
+  Eigen::FFT<double> fft;
+  for (const auto& r : data.records) {
+    if (r.size < 16) continue;
+    const double* x = data.x_of(r);
+    double mean = 0.0;
+    for (std::size_t i = 0; i < r.size; ++i) mean += x[i];
+    mean /= double(r.size);
+    std::fill(buf.begin(), buf.end(), 0.0);
+    for (std::size_t i = 0; i < r.size; ++i)
+      buf[i] = (x[i] - mean) * (0.5 - 0.5 * std::cos(2.0 * M_PI * double(i) / double(r.size - 1)));
+    fft.fwd(spec, buf);
+    for (std::size_t k = 0; k <= half; ++k) power[k] += std::norm(spec[k]);
+  }
+  const std::size_t w = 32, lobe = 2 * L / longest + 1;  // the window's main lobe in bins
+  std::vector<std::pair<double, std::size_t>> peaks;
+  std::vector<double> around;
+  for (std::size_t k = std::max(w, 2 * lobe); k + w <= half; ++k) {
+    if (!(power[k] >= power[k - 1] && power[k] > power[k + 1])) continue;
+    around.assign(power.begin() + long(k - w), power.begin() + long(k + w));
+    std::nth_element(around.begin(), around.begin() + long(w), around.end());
+    if (around[w] > 0.0) peaks.push_back({power[k] / around[w], k});
+  }
+  std::sort(peaks.begin(), peaks.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<double> out;
+  for (std::size_t i = 0; i < peaks.size() && out.size() < count; ++i)
+    out.push_back(2.0 * M_PI * double(peaks[i].second) / (double(L) * dt));
+  return out;
+}
+
+/// Candidate (omega, amplitude) starts, at most 1 + max_candidates: the medians, the summed
+/// periodogram's lines (with the median amplitude), then the records' own frequencies, those
+/// most records agree on (within 3 %) first — a record's own fit of a weak forcing often lands on
+/// a noise peak, and the median of such frequencies is none of them; on 16 records the truth's
+/// was sometimes found by one record only — each with the median amplitude of the records that
+/// agree with it.
+std::vector<RecordForcing> candidate_forcings(const std::vector<RecordForcing>& own, const std::vector<double>& lines,
+                                             std::size_t max_candidates) {
   auto near = [](double a, double b) { return std::abs(a - b) <= 0.03 * std::abs(b); };
   std::vector<double> omegas, amplitudes;
   for (const auto& f : own) omegas.push_back(f.omega), amplitudes.push_back(f.amplitude);
   std::vector<RecordForcing> out{{median(omegas), median(amplitudes)}};
+  for (double w : lines)
+    if (out.size() <= max_candidates && std::none_of(out.begin(), out.end(), [&](const RecordForcing& c) { return near(c.omega, w); }))
+      out.push_back({w, median(amplitudes)});
   std::vector<std::pair<int, std::size_t>> support;  // (records agreeing, record)
   for (std::size_t i = 0; i < own.size(); ++i) {
     int n = 0;
@@ -40,9 +96,8 @@ std::vector<RecordForcing> candidate_forcings(const std::vector<RecordForcing>& 
   std::stable_sort(support.begin(), support.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   for (const auto& [n, i] : support) {
     if (out.size() > max_candidates) break;
-    if (n < 2) break;  // a frequency only its own record found
     const double w = own[i].omega;
-    if (std::any_of(out.begin() + 1, out.end(), [&](const RecordForcing& c) { return near(c.omega, w); })) continue;
+    if (std::any_of(out.begin(), out.end(), [&](const RecordForcing& c) { return near(c.omega, w); })) continue;
     std::vector<double> a;
     for (const auto& f : own)
       if (near(f.omega, w)) a.push_back(f.amplitude);
@@ -72,7 +127,7 @@ void start_record_phases(ObservedModel& start, const Dataset& data, const Record
     }
   }
   if (own.empty()) return;
-  const std::vector<RecordForcing> candidates = candidate_forcings(own, 6);
+  const std::vector<RecordForcing> candidates = candidate_forcings(own, spectral_lines(data, 6), 12);
   detail::FitChoice choice;
   choice.per_record_phase = true;
   choice.fit_measurement_noise = start.measurement_sd > 0.0;
