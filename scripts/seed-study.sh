@@ -7,7 +7,7 @@
 # from vehs_test::seed(); the statistics they tally() are collected. Printed per test and
 # quantity: runs, mean z ± its standard error, sd of z (≈ 1 for calibrated error bars), max |z|,
 # mean relative error ± its standard error; and per test the runs that failed any check.
-# Environment: JOBS (runs at a time, default nproc, each with OMP_NUM_THREADS=1; tests that
+# Environment: SHIFT0 (first shift, default 1), JOBS (runs at a time, default nproc, each with OMP_NUM_THREADS=1; tests that
 # write files under the build folder — the [app] ones — need JOBS=1), OUT (folder for the raw
 # tallies and JUnit reports; default a new folder under /tmp, printed).
 set -euo pipefail
@@ -27,7 +27,8 @@ run_one() {
   VEHS_TEST_SEED_SHIFT=$1 VEHS_TEST_TALLY="$out/tally.$1" OMP_NUM_THREADS=1 \
     "$bin" "${@:2}" -r junit -o "$out/junit.$1.xml" >/dev/null 2>&1 || true
 }
-for s in $(seq 1 "$n"); do
+first=${SHIFT0:-1}  # SHIFT0=k: shifts k … k + N − 1 (default 1 … N)
+for s in $(seq "$first" $((first + n - 1))); do
   while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n; done
   run_one "$s" "$@" &
 done
