@@ -16,7 +16,9 @@
 # seed: corrected_{paper10,paper10noise,paper05,paper05noise,bistable10,bistable10noise,
 # bistable05,bistable05noise}; corrected_long_paper10noise (32 records, 10 seeds),
 # corrected_long16_paper10noise (128 records = 16x, 20 seeds, ~90 CPU s a seed: where "within 3 SE
-# and 5 %" tests the estimator, not the data length) and corrected_paper05noise_more (seeds 20-39)
+# and 5 %" tests the estimator, not the data length), corrected_long16_{paper10,paper05,paper05noise}
+# (the other three conditions at 16x, ~130-150 CPU s a seed), corrected_long4_bistable10{,noise} (32
+# records, where the bistable's beta has an SE under 2 %; ~10 CPU s a seed), and corrected_paper05noise_more (seeds 20-39)
 # are run on request (OMP_NUM_THREADS=1 nice -n 10). `z_long_paper`: are the SEs calibrated at
 # 32 records (the paper's model, omega_max*dt 1.0, no noise, seeds 10-29: long_paper has 0-9)?
 # sd of z with its 95 % interval, observed information and (VEHS_SECOND_COVARIANCE) sandwich.
@@ -78,6 +80,11 @@ for ((i = 0; i < ${#parts[@]}; ++i)); do
     corrected_paper05noise) run "$p" "$bench" synthetic paper 0.118 0.02 "${PAPER_SEEDS:-20}" 1000 "${RECORDS:-8}" 8 ;;
     corrected_long_paper10noise) run "$p" "$bench" synthetic paper 0.236 0.02 "${PAPER_SEEDS:-10}" 1000 32 8 ;;
     corrected_long16_paper10noise) run "$p" "$bench" synthetic paper 0.236 0.02 "${PAPER_SEEDS:-20}" 1000 128 8 ;;
+    corrected_long16_paper10) run "$p" "$bench" synthetic paper 0.236 0 "${PAPER_SEEDS:-20}" 1000 128 8 ;;
+    corrected_long16_paper05) run "$p" "$bench" synthetic paper 0.118 0 "${PAPER_SEEDS:-20}" 1000 128 8 ;;
+    corrected_long16_paper05noise) run "$p" "$bench" synthetic paper 0.118 0.02 "${PAPER_SEEDS:-20}" 1000 128 8 ;;
+    corrected_long4_bistable10) run "$p" "$bench" synthetic bistable 0.7 0 "${SEEDS:-20}" 2000 32 8 ;;
+    corrected_long4_bistable10noise) run "$p" "$bench" synthetic bistable 0.7 0.02 "${SEEDS:-20}" 2000 32 8 ;;
     z_long_paper) FIRST_SEED="${FIRST_SEED:-10}" VEHS_SECOND_COVARIANCE=sandwich \
         run "$p" "$bench" synthetic paper 0.236 0 "${PAPER_SEEDS:-20}" 1000 32 ;;
     corrected_paper05noise_more) FIRST_SEED=20 run "$p" "$bench" synthetic paper 0.118 0.02 20 1000 8 8 ;;
