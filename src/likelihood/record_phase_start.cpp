@@ -30,13 +30,17 @@ struct RecordForcing {
 /// length (4× the longest record), |X|² summed over the records (their phases differ, so powers
 /// add), each bin divided by the median of the 64 bins around it (the broadband response), the
 /// local maxima of that ratio ranked. A forcing no single record resolves shows as a line once the
-/// records are summed. Empty when the records do not share one sampling interval.
+/// records are summed. Each record's first 2^18 samples at most: the buffers stay under 40 MB,
+/// and a record that long resolves a forcing in its own fit. Empty when the records do not share
+/// one sampling interval. (core's welch_spectrum, without the zero-padding, put the line up to
+/// half a bin off: the start then missed in 3 of 60 seed shifts of test_record_phase_start.cpp.)
 std::vector<double> spectral_lines(const Dataset& data, std::size_t count) {
+  constexpr std::size_t kMaxSamples = std::size_t(1) << 18;
   const double dt = data.records.front().dt;
   std::size_t longest = 0;
   for (const auto& r : data.records) {
     if (r.dt != dt) return {};
-    longest = std::max(longest, r.size);
+    longest = std::max(longest, std::min(r.size, kMaxSamples));
   }
   std::size_t L = 1;
   while (L < 4 * longest) L *= 2;
@@ -45,14 +49,15 @@ std::vector<double> spectral_lines(const Dataset& data, std::size_t count) {
   std::vector<std::complex<double>> spec;
   Eigen::FFT<double> fft;
   for (const auto& r : data.records) {
-    if (r.size < 16) continue;
+    const std::size_t n = std::min(r.size, kMaxSamples);
+    if (n < 16) continue;
     const double* x = data.x_of(r);
     double mean = 0.0;
-    for (std::size_t i = 0; i < r.size; ++i) mean += x[i];
-    mean /= double(r.size);
+    for (std::size_t i = 0; i < n; ++i) mean += x[i];
+    mean /= double(n);
     std::fill(buf.begin(), buf.end(), 0.0);
-    for (std::size_t i = 0; i < r.size; ++i)
-      buf[i] = (x[i] - mean) * (0.5 - 0.5 * std::cos(2.0 * M_PI * double(i) / double(r.size - 1)));
+    for (std::size_t i = 0; i < n; ++i)
+      buf[i] = (x[i] - mean) * (0.5 - 0.5 * std::cos(2.0 * M_PI * double(i) / double(n - 1)));
     fft.fwd(spec, buf);
     for (std::size_t k = 0; k <= half; ++k) power[k] += std::norm(spec[k]);
   }
@@ -72,7 +77,8 @@ std::vector<double> spectral_lines(const Dataset& data, std::size_t count) {
   return out;
 }
 
-/// Candidate (omega, amplitude) starts, at most 1 + max_candidates: the medians, the summed
+/// Candidate (omega, amplitude) starts, at most 1 + max_candidates: the medians alone when at
+/// least half the records' own frequencies are within 3 % of theirs; else the medians, the summed
 /// periodogram's lines (with the median amplitude), then the records' own frequencies, those
 /// most records agree on (within 3 %) first — a record's own fit of a weak forcing often lands on
 /// a noise peak, and the median of such frequencies is none of them; on 16 records the truth's
@@ -84,6 +90,8 @@ std::vector<RecordForcing> candidate_forcings(const std::vector<RecordForcing>& 
   std::vector<double> omegas, amplitudes;
   for (const auto& f : own) omegas.push_back(f.omega), amplitudes.push_back(f.amplitude);
   std::vector<RecordForcing> out{{median(omegas), median(amplitudes)}};
+  const auto agree = std::count_if(own.begin(), own.end(), [&](const RecordForcing& f) { return near(f.omega, out[0].omega); });
+  if (2 * std::size_t(agree) >= own.size()) return out;  // most records resolve it alone: nothing to choose
   for (double w : lines)
     if (out.size() <= max_candidates && std::none_of(out.begin(), out.end(), [&](const RecordForcing& c) { return near(c.omega, w); }))
       out.push_back({w, median(amplitudes)});
