@@ -3,7 +3,10 @@
 // estimate from the truth and its SE): the exact likelihood's is N(0, 1) in SE units, so a
 // one-step shift of several SEs is a bias of the filter's estimating equation (or of the data).
 //   EMC_RECORDS (288) EMC_SAMPLES (4000) EMC_SEED (0: the study's seed 100) EMC_GEN_SUBSTEPS (20)
-//   EMC_FILTER_SUBSTEPS (0: automatic) EMC_BLOCK (16384):
+//   EMC_FILTER_SUBSTEPS (0: automatic) EMC_BLOCK (16384) EMC_DT (0.05, the duration kept)
+//   EMC_SCHEME (taylor15) EMC_NOISE (sensor noise sd, 0) EMC_BETA EMC_2D EMC_TRACE=1 (innovations)
+//   EMC_LINEAR=1 (the linear coupled oscillator of tests/likelihood/electro_linear.hpp; with
+//   EMC_EXACT=1 by its exact discretisation, started stationary):
 //   OMP_NUM_THREADS=1 nice -n 10 build/tests/test_diagnose "[.emc_bias]"
 #include <catch2/catch.hpp>
 
@@ -11,12 +14,9 @@
 #include <cstdlib>
 #include <string>
 
-#include <random>
-
-#include <unsupported/Eigen/MatrixFunctions>
-
 #include "vehs/likelihood/score_test.hpp"
 
+#include "likelihood/electro_linear.hpp"
 #include "score_fixtures.hpp"
 
 using namespace vehs;
@@ -24,43 +24,6 @@ using namespace score_test;
 
 namespace {
 double env_num(const char* name, double fallback) { return std::getenv(name) ? std::atof(std::getenv(name)) : fallback; }
-/// The linear model's records by its exact discretisation (Van Loan): x, y, v Gaussian AR(1).
-Dataset exact_linear(int records, std::size_t samples, double dt, std::uint64_t seed) {
-  Eigen::Matrix3d F;
-  F << 0, 1, 0, -2.0, -0.1, -0.5, 0, 1, -0.8;
-  Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
-  M.topLeftCorner<3, 3>() = -F * dt;
-  M(1, 4) = 0.04 * dt;
-  M.bottomRightCorner<3, 3>() = F.transpose() * dt;
-  const Eigen::Matrix<double, 6, 6> G = M.exp();
-  const Eigen::Matrix3d A = G.bottomRightCorner<3, 3>().transpose();
-  const Eigen::Matrix3d Q = A * G.topRightCorner<3, 3>();
-  const Eigen::Matrix3d L = Eigen::LLT<Eigen::Matrix3d>(0.5 * (Q + Q.transpose())).matrixL();
-  std::mt19937_64 g(seed);
-  std::normal_distribution<double> n01;
-  Dataset d;
-  std::vector<double> x;
-  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-  double cn = 0;
-  for (int r = 0; r < records; ++r) {
-    Eigen::Vector3d s = Eigen::Vector3d::Zero();
-    for (std::size_t k = 0; k < samples + 4000; ++k) {
-      if (k >= 4000) x.push_back(s[0]), C += s * s.transpose(), cn += 1;
-      s = A * s + L * Eigen::Vector3d(n01(g), n01(g), n01(g));
-    }
-    Record rec;
-    rec.dt = dt;
-    rec.offset = std::size_t(r) * samples;
-    rec.size = samples;
-    rec.id = r;
-    d.records.push_back(rec);
-  }
-  d.x = Column(std::move(x));
-  C /= cn;
-  std::printf("state covariance (x, y, v):\n%.5f %.5f %.5f\n%.5f %.5f %.5f\n%.5f %.5f %.5f\n", C(0, 0), C(0, 1), C(0, 2),
-              C(1, 0), C(1, 1), C(1, 2), C(2, 0), C(2, 1), C(2, 2));
-  return d;
-}
 }  // namespace
 
 TEST_CASE("electromechanical coupling: the filter's score at the truth (bench)", "[.emc_bias]") {
@@ -80,9 +43,8 @@ TEST_CASE("electromechanical coupling: the filter's score at the truth (bench)",
   if (const char* sc = std::getenv("EMC_SCHEME")) so.scheme = enum_from_string(sim::kSchemeNames, sc, "EMC_SCHEME");
   Model m = truth_of(hc);
   if (env_num("EMC_LINEAR", 0) != 0)  // a linear oscillator (ω² = 2, the wells' curvature): the filter is exact
-    m = model_from_json(nlohmann::json::parse(R"({"drift": {"x": -2.0, "y": -0.1}, "diffusion": {"1": 0.04},
-        "effects": [{"name": "electromechanical_coupling", "params": {"lambda": 0.8, "coupling": 0.5}}]})"), "linear");
-  const Dataset d = env_num("EMC_EXACT", 0) != 0 ? exact_linear(hc.records, so.samples, so.dt, seed)
+    m = electro_linear::linear_model();
+  const Dataset d = env_num("EMC_EXACT", 0) != 0 ? electro_linear::exact_records(hc.records, so.samples, so.dt, seed)
                                                  : sim::simulate(m, so);
   likelihood::ScoreTestOptions o;
   o.filter.substeps = int(env_num("EMC_FILTER_SUBSTEPS", 0));
