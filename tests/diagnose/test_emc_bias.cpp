@@ -6,7 +6,9 @@
 //   EMC_FILTER_SUBSTEPS (0: automatic) EMC_BLOCK (16384) EMC_DT (0.05, the duration kept)
 //   EMC_SCHEME (taylor15) EMC_NOISE (sensor noise sd, 0) EMC_BETA EMC_2D EMC_TRACE=1 (innovations)
 //   EMC_LINEAR=1 (the linear coupled oscillator of tests/likelihood/electro_linear.hpp; with
-//   EMC_EXACT=1 by its exact discretisation, started stationary):
+//   EMC_EXACT=1 by its exact discretisation, started stationary) EMC_DIAGNOSE=1 (diagnose the
+//   truth as the loop diagnoses its refit, without suspects; EMC_TWIN_TAYLOR=1: its twins by the
+//   data's scheme, EMC_REPLICATES=n twins per record):
 //   OMP_NUM_THREADS=1 nice -n 10 build/tests/test_diagnose "[.emc_bias]"
 #include <catch2/catch.hpp>
 
@@ -14,7 +16,10 @@
 #include <cstdlib>
 #include <string>
 
+#include "vehs/diagnose/diagnose.hpp"
 #include "vehs/likelihood/score_test.hpp"
+
+#include "diagnose_fixtures.hpp"
 
 #include "likelihood/electro_linear.hpp"
 #include "score_fixtures.hpp"
@@ -73,4 +78,19 @@ TEST_CASE("electromechanical coupling: the filter's score at the truth (bench)",
                 r.stderrs[i], r.null_value[i], (r.estimate[i] - r.null_value[i]) / r.stderrs[i],
                 100.0 * (r.estimate[i] / r.null_value[i] - 1.0));
   std::fflush(stdout);
+  if (env_num("EMC_DIAGNOSE", 0) != 0) {  // the verdict on the TRUE model (as the loop judges its refit, no suspects)
+    diagnose::Options dopt = diag_test::fast_options(seed + 1000);
+    dopt.fpk = false;
+    dopt.suspects.enabled = false;
+    dopt.score_suspects.enabled = false;
+    if (env_num("EMC_TWIN_TAYLOR", 0) != 0)  // twins by the data's own scheme and substeps
+      dopt.twin_scheme_auto = false, dopt.twin_scheme = sim::Scheme::Taylor15, dopt.twin_substeps = 20;
+    if (std::getenv("EMC_REPLICATES")) dopt.replicates = int(env_num("EMC_REPLICATES", 2));
+    const diagnose::Result dr = diagnose::diagnose(truth.model, d, dopt);
+    std::printf("  truth diagnosed %s, score %.3g (threshold %.3g):", dr.adequate() ? "adequate" : "INADEQUATE", dr.score,
+                dr.threshold);
+    for (const auto& comp : dr.components)
+      if (comp.test.available) std::printf(" %s p %.2g;", comp.name.c_str(), comp.test.p_value);
+    std::printf("\n");
+  }
 }
