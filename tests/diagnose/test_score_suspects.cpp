@@ -102,6 +102,39 @@ TEST_CASE("score suspects: a hidden effect is named first and significant, z nea
   }
 }
 
+// A slow forcing (ω 0.1, well below the wells' ≈ 1.4; 2 periods a record) among the hidden-state
+// look-alikes: a force that changes over tens of time units is also what a long-memory OU
+// excitation looks like one step at a time. The shared-phase forcing (amplitude 0.08) and the
+// per-record-phase forcing (amplitude 0.1) must be named first, significant and alone — ahead of
+// colored_noise, whose scan reaches its longest τ (10/ω̄) on these data. SLOW_FORCING_BOUNDS
+// (measured: below)
+TEST_CASE("score suspects: a slow forcing is named first, ahead of the hidden states",
+          "[diagnose][score_suspects][slow_forcing]") {
+  for (const std::string name : {"harmonic_forcing_slow", "harmonic_forcing_per_record_slow"}) {
+    HiddenCase hc = ci_size(case_named(name));
+    const std::string amplitude = name == "harmonic_forcing_slow" ? "0.08" : "0.1";
+    hc.effect.replace(hc.effect.find("0.05"), 4, amplitude);
+    const Dataset d = hidden_data(hc, 31);
+    const Outcome o = run_case(hc, d);
+    INFO(name << " (" << o.seconds << " s):" << describe(o.report));
+    REQUIRE_FALSE(o.report.ranked.empty());
+    const auto z_of = [&](const std::string& effect) {
+      for (const auto& s : o.report.ranked)
+        if (s.effect == effect) return s.z;
+      return 0.0;
+    };
+    const diagnose::ScoreSuspect& first = o.report.ranked.front();
+    tally(name + " first z", first.z);
+    tally(name + " margin over colored_noise", z_of(hc.effect_name()) - z_of("colored_noise"));
+    tally(name + " margin over the other forcing form",
+          z_of(hc.effect_name()) - z_of(hc.phase_per_record ? "harmonic_forcing" : "harmonic_forcing_per_record"));
+    tally(name + " seconds", o.seconds);
+    CHECK(first.effect == hc.effect_name());
+    CHECK(first.significant);
+    CHECK(first.not_resolved_from.empty());
+  }
+}
+
 namespace {
 
 /// The null-law check of the score statistics against a parametric bootstrap from the baseline:
