@@ -170,10 +170,10 @@ inline std::vector<HiddenCase> hidden_cases() {
     c.phase_per_record = true;
     add(c);
   }
-  {  // an OU excitation of memory τ = 20, beyond the colored_noise scan's longest τ (10/ω̄ ≈ 8)
-    HiddenCase c = make("colored_noise_slow_tau20", Potential::Bistable);
+  for (const char* tau : {"20", "50"}) {  // OU memory beyond the colored_noise scan's longest τ (10/ω̄ ≈ 8)
+    HiddenCase c = make(std::string("colored_noise_slow_tau") + tau, Potential::Bistable);
     c.hidden = "colored_noise";
-    c.effect = R"J({"name": "colored_noise", "params": {"tau": 20.0, "intensity": 0.04}})J";
+    c.effect = std::string(R"J({"name": "colored_noise", "params": {"tau": )J") + tau + R"J(, "intensity": 0.04}})J";
     c.two_d = 0.01;
     add(c);
   }
