@@ -8,8 +8,12 @@ library's estimates of beta, 2D, q_y2 and the x^7, x^9 coefficients as z against
 bench/sampling_rule_state_dependent.py draws them.
   build/python-venv/bin/python bench/identify_wall_rows.py [SEEDS [SEED0 [DIAGNOSED]]]
 (the vehs package built by scripts/test.sh; diagnose on the first DIAGNOSED seeds only, all by
-default: about 15 CPU s a diagnosed seed, 0.2 s otherwise)."""
+default: 15–60 CPU s a diagnosed seed, 0.2 s otherwise).
+  build/python-venv/bin/python bench/identify_wall_rows.py time
+(identify's CPU seconds a fit on seed 202's records, one thread: 0.038 on main, 0.058 with the
+rows beyond the lens left out, 24 Nov 2026 at load 10)."""
 import sys
+import time
 
 import numpy as np
 import vehs
@@ -37,7 +41,18 @@ def one(seed, diagnosed):
     return z, est, left_out, verdict
 
 
+def timing():
+    vehs.set_threads(1)
+    r = records(202)
+    t = time.process_time()
+    for _ in range(10):
+        vehs.identify(r, sparsity="none", drift_library=list(PENTA), diffusion_library=list(DIFF))
+    print(f"identify, 32 x 4000, true library: {(time.process_time() - t) / 10:.3f} CPU s a fit")
+
+
 def main():
+    if sys.argv[1:2] == ["time"]:
+        return timing()
     seeds = int(sys.argv[1]) if len(sys.argv) > 1 else 60
     seed0 = int(sys.argv[2]) if len(sys.argv) > 2 else 200
     diagnosed = int(sys.argv[3]) if len(sys.argv) > 3 else seeds
