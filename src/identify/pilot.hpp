@@ -30,7 +30,7 @@ struct Pilot {
   DriftStats drift;
   DiffusionSetup ds;
   // a state-dependent diffusion: the drift under which rows too stiff for the lens are left out
-  // (the first, unmasked OLS fit), when they were
+  // (the drift refitted on the rows the first fit's mask kept), when they were
   bool masked = false;
   DriftModel lens;
 };

@@ -431,8 +431,8 @@ Result identify_terms(const Dataset& data, const Options& options) {
   vehs::detail::ProgressCounter progress(options.progress, "identify", 3 * static_cast<long long>(spans.size()));
 
   // pass 1: drift statistics per fold, drift selection. A state-dependent diffusion: the rows
-  // where the lens does not hold under the pilot's first drift are left out of both passes, as out
-  // of the pilot's fits and the sampling rule (lens_mask.hpp; a y² diffusion's bursts into a
+  // where the lens does not hold under the pilot's (masked) drift are left out of both passes, as
+  // out of the pilot's fits and the sampling rule (lens_mask.hpp; a y² diffusion's bursts into a
   // stiff wall pulled β 40×)
   if (central && pilot.masked) cx.lens = &pilot.lens;
   auto dstats = drift_pass(cx, central, est == Estimator::Noisy, spans, F, &progress);
