@@ -3,7 +3,7 @@
 # seeds"): nice 10, one thread, the log in out/score_study/CASE.seedsK-N.log, the CPU seconds
 # and the load average at the end.
 #   bench/diagnose_score_study.sh CASE [SEEDS [SEED0]]     e.g. bench/diagnose_score_study.sh impact_stop 10
-# VEHS_SCORE_LOOP=0: power only (no refit with the named effect); VEHS_SCORE_RECORDS=n: n records;
+# VEHS_SCORE_LOOP=0: power only (no refit with the named effect); VEHS_SCORE_RECORDS=n: n records; VEHS_SCORE_SAMPLES=n: n samples a record;
 # VEHS_SCORE_ORACLE=0: no oracle refit (the loop alone); VEHS_SCORE_LOOP_LIKELIHOOD=1: the loop's refit refined by the likelihood; VEHS_SCORE_COARSE=1: Δt 0.35 with 2 % sensor noise, likelihood-fitted baseline (power only).
 # VEHS_SCORE_PR_START=suspect: the per-record forcing's likelihood refit starts from the score suspect's amplitude and ω
 # (default: from every record's own moment fit, as identify-vehs's per_record_phase does).
@@ -14,7 +14,7 @@ case="${1:?usage: diagnose_score_study.sh CASE [SEEDS [SEED0]]}"
 seeds="${2:-10}"
 seed0="${3:-0}"
 mkdir -p "$root/out/score_study"
-tag="${VEHS_SCORE_RECORDS:+.records$VEHS_SCORE_RECORDS}"
+tag="${VEHS_SCORE_RECORDS:+.records$VEHS_SCORE_RECORDS}${VEHS_SCORE_SAMPLES:+.samples$VEHS_SCORE_SAMPLES}"
 [ "${VEHS_SCORE_LOOP:-1}" = 0 ] && tag="$tag.noloop"
 [ "${VEHS_SCORE_COARSE:-0}" = 1 ] && tag="$tag.coarse"
 [ "${VEHS_SCORE_ORACLE:-1}" = 0 ] && tag="$tag.nooracle"

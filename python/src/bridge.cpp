@@ -89,6 +89,10 @@ void ProgressBridge::finish() {
   if (interrupted) {
     std::raise(SIGINT);  // to Python's own handler, which PyErr_CheckSignals then runs
     if (PyErr_CheckSignals() != 0) throw nb::python_error();
+    // The handler did not raise (seen once under heavy load, cause not found; or a handler of the
+    // user's that returns): the call was still stopped by Ctrl-C and has no result to return.
+    PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw nb::python_error();
   }
   if (type_ != nullptr) {
     PyErr_Restore(type_, value_, traceback_);

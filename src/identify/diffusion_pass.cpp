@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lens_mask.hpp"
+
 namespace vehs::identify::detail {
 
 using Eigen::Index;
@@ -100,10 +102,15 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
     bW.setZero();
     bG.setZero();
   };
+  thread_local std::vector<char> keep;
+  if (cx.lens) lens_keep(cx, *cx.lens, rec, sp.begin, len, keep);
+  int row[kBlockRows];  // block row of each (kept) row
+  for (int c = 0; c < kBlockRows; ++c) row[c] = c;
   for (std::size_t j0 = 0; j0 < len; j0 += kBlockRows) {
-    const int m = static_cast<int>(std::min<std::size_t>(kBlockRows, len - j0));
-    cx.load(x, u, sp.begin + j0, m, b);
-    acc.mom.v2 += Eigen::Map<const VectorXd>(b.v, m).squaredNorm();
+    const int rows = static_cast<int>(std::min<std::size_t>(kBlockRows, len - j0));
+    cx.load(x, u, sp.begin + j0, rows, b);
+    acc.mom.v2 += Eigen::Map<const VectorXd>(b.v, rows).squaredNorm();
+    const int m = cx.lens ? compact_rows(b, keep.data() + j0, row) : rows;
     cx.psi.values(b, Psi.data(), kB, scratch.data());
     if (ds.w.weighted) a22.head(m).noalias() = Psi.topLeftCorner(m, P) * ds.w.q;
     const bool need_dv = Kv > 0 && (ito || noise);
@@ -113,7 +120,7 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
       dvc.head(m).noalias() = Dv.topLeftCorner(m, Kv) * cv.head(Kv);  // ∂_v F
     }
     for (int c = 0; c < m; ++c) {
-      const std::size_t j = j0 + static_cast<std::size_t>(c);
+      const std::size_t j = j0 + static_cast<std::size_t>(row[c]);
       rr[c] = r[j];
       double z = 0.0, w = 1.0;
       if (!diffusion_target(ds.target, cx.kin, r, raw, j, avail, z)) {
@@ -150,7 +157,7 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
           be.head(pS).noalias() += two_h2 * Dx.topLeftCorner(m, pS).colwise().sum().transpose();
         }
       }
-      if (j0 + static_cast<std::size_t>(m) >= next_end) {
+      if (j0 + static_cast<std::size_t>(rows) >= next_end) {
         flush();
         ++batch;
         next_end = batch_end(batch);
@@ -172,11 +179,11 @@ void accumulate_kept(const std::vector<double>& r, const std::vector<char>& keep
 }
 
 /// The rows of a span as standardized_moments reads them: residuals of ds.dm, weights
-/// 1/max(a22, floor), the rows kept (stencil within the stiffness limit) and, on request, the
+/// 1/max(a22, floor), the rows kept (lens_keep under ds.dm, when `mask`) and, on request, the
 /// drift dictionary's values (column-major, ld = avail).
 struct StandardizedRows {
   std::size_t len = 0, avail = 0;
-  std::vector<double> r, weight, omega_h, phi;
+  std::vector<double> r, weight, phi;
   std::vector<char> keep;
 };
 
@@ -187,44 +194,30 @@ void standardized_rows(const Context& cx, const DiffusionSetup& ds, const Diffus
   s.len = sp.end - sp.begin;
   span_residuals(cx, ds.dm, rec, sp.begin, s.avail, s.r, nullptr);
   s.weight.assign(s.avail, 0.0);
-  s.omega_h.assign(s.avail, 0.0);
   const double* x = cx.data.x_of(rec);
   const double* u = cx.data.u_of(rec);
   const int P = cx.psi.size(), pS = ds.dm.phiS.size();
   if (with_phi) s.phi.assign(s.avail * static_cast<std::size_t>(pS), 0.0);
   RowBlock b;
-  MatrixXd Psi(kB, P), Dx(kB, std::max(pS, 1)), Phi(kB, std::max(pS, 1));
-  VectorXd a22(kB), bx = VectorXd::Zero(kB);
+  MatrixXd Psi(kB, P), Phi(kB, std::max(pS, 1));
+  VectorXd a22(kB);
   std::vector<double> scratch(std::max(cx.psi.scratch_size(), ds.dm.phiS.scratch_size()));
   for (std::size_t j0 = 0; j0 < s.avail; j0 += kBlockRows) {
     const int m = static_cast<int>(std::min<std::size_t>(kBlockRows, s.avail - j0));
     cx.load(x, u, sp.begin + j0, m, b);
     cx.psi.values(b, Psi.data(), kB, scratch.data());
     a22.head(m).noalias() = Psi.topLeftCorner(m, P) * w.q;
-    if (pS > 0) {
-      ds.dm.phiS.d_dx(b, Dx.data(), kB, scratch.data());
-      bx.head(m).noalias() = Dx.topLeftCorner(m, pS) * ds.dm.cS;
-      if (with_phi) {
-        ds.dm.phiS.values(b, Phi.data(), kB, scratch.data());
-        for (int q = 0; q < pS; ++q)
-          for (int c = 0; c < m; ++c) s.phi[static_cast<std::size_t>(q) * s.avail + j0 + static_cast<std::size_t>(c)] = Phi(c, q);
-      }
+    if (pS > 0 && with_phi) {
+      ds.dm.phiS.values(b, Phi.data(), kB, scratch.data());
+      for (int q = 0; q < pS; ++q)
+        for (int c = 0; c < m; ++c) s.phi[static_cast<std::size_t>(q) * s.avail + j0 + static_cast<std::size_t>(c)] = Phi(c, q);
     }
-    for (int c = 0; c < m; ++c) {
-      const std::size_t j = j0 + static_cast<std::size_t>(c);
-      s.weight[j] = 1.0 / std::max(a22[c], w.floor);
-      s.omega_h[j] = std::sqrt(std::abs(bx[c])) * cx.kin.h;
-    }
+    for (int c = 0; c < m; ++c) s.weight[j0 + static_cast<std::size_t>(c)] = 1.0 / std::max(a22[c], w.floor);
   }
-  // the lens's stencil (rows j − k, j, j + k hold its samples) must be where its expansion holds
-  const auto k = static_cast<std::size_t>(cx.kin.k);
-  s.keep.assign(s.avail, 0);
-  for (std::size_t j = 0; j < s.avail; ++j) {
-    double wh = s.omega_h[j];
-    if (j >= k) wh = std::max(wh, s.omega_h[j - k]);
-    if (j + k < s.avail) wh = std::max(wh, s.omega_h[j + k]);
-    s.keep[j] = !mask || wh < kLensStiffnessLimit;
-  }
+  if (mask)
+    lens_keep(cx, ds.dm, rec, sp.begin, s.avail, s.keep);
+  else
+    s.keep.assign(s.avail, 1);
 }
 
 /// Σ w φφᵀ and Σ w φ r over the kept rows of a span (the weighted refit of the drift).
@@ -267,7 +260,7 @@ ResidualMoments standardized_moments(const Context& cx, const DiffusionSetup& ds
   // few: 2 of 60 noise-free pentastable y² seeds then read as noisy)
   bool mask = true;
   KeptGram total = kept_gram(cx, ds, w, spans, mask);
-  if (total.kept < 0.5 * total.rows) total = kept_gram(cx, ds, w, spans, mask = false);
+  if (!mask_holds(total.kept, total.rows)) total = kept_gram(cx, ds, w, spans, mask = false);
   const int pS = ds.dm.phiS.size();
   DiffusionSetup refit = ds;
   if (pS > 0) refit.dm.cS += total.G.ldlt().solve(total.g);

@@ -117,18 +117,12 @@ struct DiffusionStats {
   }
 };
 
-/// The stiffness ω·h = √|∂b/∂x|·h beyond which a row is not read by standardized_moments: the
-/// lens's expansion in h needs ω·h small (at 0.5 its O((ωh)²) error is a few per cent of â).
-inline constexpr double kLensStiffnessLimit = 0.5;
-
 /// The residual moments at `ds.lags` of the residuals standardized by the diffusion `w.q`
-/// (√w_j·r_j, w_j = 1/max(a22(x_j, v_j), w.floor)) over the rows whose lens stencil (samples
-/// j − k … j + k) stays where ω·h < kLensStiffnessLimit (∂b/∂x of the drift `ds.dm`): the lag
+/// (√w_j·r_j, w_j = 1/max(a22(x_j, v_j), w.floor)) over the rows whose lens stencil stays where
+/// the lens holds under the drift `ds.dm` (lens_mask.hpp: lens_keep, mask_holds): the lag
 /// statistics of a state-dependent diffusion, whose rare large-variance rows, thrown into a
 /// stiff wall, would otherwise carry the autocorrelations (pilot.cpp, issue 13). The drift is
 /// refitted on those rows by weighted least squares first (the given fit is pulled by the wall).
-/// Where the stiffness limit would leave out half of the rows or more (coarse sampling, a large
-/// stride: the lens's expansion is what the data are read with) no row is left out.
 ResidualMoments standardized_moments(const Context& cx, const DiffusionSetup& ds, const DiffusionWeights& w,
                                      const std::vector<Span>& spans);
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "lens_mask.hpp"
+
 namespace vehs::identify::detail {
 
 using Eigen::Index;
@@ -21,11 +23,12 @@ void drift_pass_span(const Context& cx, bool ito, bool noise, const Span& sp, Dr
   MatrixXd Phi(kB, K + 1), Psi(kB, P), Dv(kB, std::max(Kv, 1)), D2(kB, std::max(Kv, 1)), Dx(kB, K);
   MatrixXd Resp(kB, std::max(Kv, 1));
   std::vector<double> scratch(std::max(cx.phi.scratch_size(), cx.psi.scratch_size()));
+  thread_local std::vector<char> keep;
+  if (cx.lens) lens_keep(cx, *cx.lens, rec, sp.begin, sp.end - sp.begin, keep);
+  int kept_rows[kBlockRows];
   for (std::size_t j0 = sp.begin; j0 < sp.end; j0 += kBlockRows) {
-    const int m = static_cast<int>(std::min<std::size_t>(kBlockRows, sp.end - j0));
+    int m = static_cast<int>(std::min<std::size_t>(kBlockRows, sp.end - j0));
     cx.load(x, u, j0, m, b);
-    cx.phi.values(b, Phi.data(), kB, scratch.data());
-    for (int c = 0; c < m; ++c) Phi(c, K) = b.a[c];
     double lo = acc.xmin, hi = acc.xmax, v2 = 0.0;
     for (int c = 0; c < m; ++c) {
       lo = std::min(lo, b.x[c]);
@@ -35,6 +38,13 @@ void drift_pass_span(const Context& cx, bool ito, bool noise, const Span& sp, Dr
     acc.xmin = lo;
     acc.xmax = hi;
     acc.v2 += v2;
+    if (cx.lens) {  // the data's range and velocity scale above are over every row
+      const int all = m;
+      m = compact_rows(b, keep.data() + (j0 - sp.begin), kept_rows);
+      acc.left_out += all - m;
+    }
+    cx.phi.values(b, Phi.data(), kB, scratch.data());
+    for (int c = 0; c < m; ++c) Phi(c, K) = b.a[c];
     add_AtB(Phi, Phi, m, K + 1, K + 1, acc.Gaug, true);
     if (ito || (noise && Kv > 0)) cx.phi.d_dv(b, Dv.data(), kB, scratch.data());
     if (ito) {

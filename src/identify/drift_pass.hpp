@@ -23,6 +23,7 @@ struct DriftStats {
   Eigen::MatrixXd h2;    // K × Kv: Σ φ ∂²_vφᵀ
   Eigen::VectorXd dx;    // K: Σ ∂_xφ
   double n = 0.0;
+  double left_out = 0.0;  // rows left out where the lens does not hold (Context::lens)
   double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin;
   double v2 = 0.0;
 
@@ -38,6 +39,7 @@ struct DriftStats {
     h2 += o.h2;
     dx += o.dx;
     n += o.n;
+    left_out += o.left_out;
     xmin = std::min(xmin, o.xmin);
     xmax = std::max(xmax, o.xmax);
     v2 += o.v2;

@@ -29,6 +29,10 @@ struct Pilot {
   std::vector<Span> spans;
   DriftStats drift;
   DiffusionSetup ds;
+  // a state-dependent diffusion: the drift under which rows too stiff for the lens are left out
+  // (the drift refitted on the rows the first fit's mask kept), when they were
+  bool masked = false;
+  DriftModel lens;
 };
 
 /// Whether the diffusion library has a term other than the constant (the sampling rule and the
@@ -39,7 +43,8 @@ bool state_dependent(const Dictionary& psi);
 DiffusionWeights diffusion_weights(const Pilot& p);
 
 /// The uncorrected full-library drift fit, residual autocorrelations and OLS diffusion fit at
-/// `kin` on at most ~pilot_rows rows.
+/// `kin` on at most ~pilot_rows rows; with a state-dependent diffusion and central kinematics
+/// the drift and diffusion fits leave out the rows where the lens does not hold (lens_mask.hpp).
 Pilot run_pilot(const Dataset& d, const Dictionary& phi, const Dictionary& psi, const Kinematics& kin,
                 Target target, std::size_t pilot_rows, const double* known);
 

@@ -25,6 +25,8 @@ inline constexpr std::size_t kMaxSpanRows = 1u << 16;  // rows per work item
 inline constexpr std::size_t kBatchSpans = 32;         // work items reduced together (fixed: determinism)
 inline constexpr Eigen::Index kB = kBlockRows;
 
+struct DriftModel;
+
 struct Span {
   std::size_t record = 0;
   std::size_t begin = 0, end = 0;  // rows
@@ -92,6 +94,7 @@ struct Context {
   Kinematics kin;
   const FourthDerivative* jerk = nullptr;  // O(h²) correction of the target (central kinematics)
   const double* known = nullptr;  // known force per sample, aligned with data.x (or null)
+  const DriftModel* lens = nullptr;  // the passes leave out the rows too stiff for the lens under it (lens_mask.hpp)
 
   /// Rows [j0, j0 + m) of a record, the acceleration target corrected by −(h²/12)·x⁗ and
   /// by the known force.

@@ -11,6 +11,7 @@
 
 #include "diffusion_pass.hpp"
 #include "drift_pass.hpp"
+#include "lens_mask.hpp"
 #include "pilot.hpp"
 #include "standard_errors.hpp"
 #include "vehs/core/detail/format.hpp"
@@ -290,6 +291,7 @@ DriftSelection select_drift(const std::vector<DriftStats>& folds, const Dictiona
   for (std::size_t f = 1; f < folds.size(); ++f) d.total.add(folds[f]);
   const int P = dict.phi.size();
   rep.fit.rows = static_cast<std::size_t>(d.total.n);
+  rep.fit.rows_left_out = static_cast<std::size_t>(d.total.left_out);
   rep.fit.drift_condition_full =
       require_well_conditioned(d.total.Gaug.topLeftCorner(P, P), full_support(P), dict.phi_names, "the drift dictionary");
   d.corr.ito = uses_central_kinematics(est);
@@ -428,8 +430,17 @@ Result identify_terms(const Dataset& data, const Options& options) {
   const auto spans = make_spans(data, kin, F, 0);
   vehs::detail::ProgressCounter progress(options.progress, "identify", 3 * static_cast<long long>(spans.size()));
 
-  // pass 1: drift statistics per fold, drift selection
-  const auto dstats = drift_pass(cx, central, est == Estimator::Noisy, spans, F, &progress);
+  // pass 1: drift statistics per fold, drift selection. A state-dependent diffusion: the rows
+  // where the lens does not hold under the pilot's (masked) drift are left out of both passes, as
+  // out of the pilot's fits and the sampling rule (lens_mask.hpp; a y² diffusion's bursts into a
+  // stiff wall pulled β 40×)
+  if (central && pilot.masked) cx.lens = &pilot.lens;
+  auto dstats = drift_pass(cx, central, est == Estimator::Noisy, spans, F, &progress);
+  if (cx.lens) {
+    double kept = 0.0, left_out = 0.0;
+    for (const auto& s : dstats) kept += s.n, left_out += s.left_out;
+    if (!mask_holds(kept, kept + left_out)) cx.lens = nullptr, dstats = drift_pass(cx, central, est == Estimator::Noisy, spans, F, nullptr);
+  }
   lap("drift_pass");
   DriftSelection drift = select_drift(dstats, dict, pilot, est, kin.h, selection, rep);
 

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <exception>
 #include <limits>
 #include <mutex>
 #include <string>
@@ -80,6 +81,8 @@ struct RunContext {
   long long failed_record = -1;
   double failed_time = 0.0;
   std::string failure;                ///< message of the earliest failed record
+  std::exception_ptr error;           ///< an exception thrown while stepping (e.g. by the progress
+                                      ///< callback: "interrupted"), rethrown as it was
 };
 
 inline std::string format_number(double v) {
@@ -439,9 +442,10 @@ void run_all_with(RunContext& ctx) {
     try {
       run_batch<Stepper, System>(ctx, first, static_cast<int>(std::min<std::size_t>(kLanes, records - first)),
                                  thread);
-    } catch (const std::exception& e) {
-      report_failure(ctx, static_cast<long long>(ctx.options->first_record + first), 0.0,
-                     std::string("failed: ") + e.what());
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(ctx.failure_mutex);
+      if (!ctx.error) ctx.error = std::current_exception();
+      ctx.cancel = true;
     }
   }
 }

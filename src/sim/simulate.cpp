@@ -215,6 +215,7 @@ void run(detail::RunContext& ctx, Scheme scheme) {
     case Scheme::Baoab: detail::run_all<BaoabStepper>(ctx); break;
     case Scheme::Taylor15: detail::run_all<Taylor15Stepper>(ctx); break;
   }
+  if (ctx.error) std::rethrow_exception(ctx.error);  // not a divergence: the exception itself
   if (ctx.failed_record >= 0) {
     std::ostringstream os;
     os << "simulation: record " << ctx.failed_record << " " << ctx.failure << " at t = "

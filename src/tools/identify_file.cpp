@@ -96,6 +96,7 @@ J path_json(const SelectionReport& report) {
 
 J fit_json(const FitSummary& f) {
   J j = {{"rows", f.rows},
+         {"rows_left_out", f.rows_left_out},
          {"drift_condition_full_library", f.drift_condition_full},
          {"drift_condition_selected", num_or_null(f.drift_condition_selected)},
          {"diffusion_condition_full_library", f.diffusion_condition_full},

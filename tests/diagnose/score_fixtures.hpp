@@ -41,8 +41,8 @@ inline std::vector<std::string> potential_library(Potential p) {
 }
 
 struct HiddenCase {
-  std::string name;       ///< the case: the hidden effect ("none": control), or "<effect>_weak"
-  std::string hidden;     ///< the hidden effect when the name is not it (a weak case); else ""
+  std::string name;       ///< the case: the hidden effect ("none": control), "<effect>_weak" or "<effect>_slow"
+  std::string hidden;     ///< the hidden effect when the name is not it (a weak or slow case); else ""
   Potential potential = Potential::Bistable;
   double beta = 0.1, two_d = 0.04;
   std::string effect;     ///< JSON of the effects array entry ("" : none)
@@ -54,7 +54,7 @@ struct HiddenCase {
   double sensor_noise_share = 0.0;  ///< white sensor noise, share of std(x) (coarse shape)
 
   const std::string& effect_name() const { return hidden.empty() ? name : hidden; }
-  bool weak() const { return !hidden.empty(); }
+  bool weak() const { return name.size() > 5 && name.compare(name.size() - 5, 5, "_weak") == 0; }
 };
 
 /// The coarse shape of issue 13's power study (VEHS_SCORE_COARSE=1): the same records sampled at
@@ -143,6 +143,45 @@ inline std::vector<HiddenCase> hidden_cases() {
     HiddenCase c = make("harmonic_forcing_per_record", Potential::Bistable);
     c.effect = R"J({"name": "harmonic_forcing", "params": {"amplitude": 0.08, "omega": 0.9)J";
     c.phase_per_record = true;
+    add(c);
+  }
+  // Slow versions (issue 13's untested look-alikes): a forcing well below the wells' frequency
+  // (ω 0.1 against ≈ 1.4; ≈ 3 periods a record), shared phase and one phase per record, and an OU
+  // excitation of long memory (τ = 5). The forcing's amplitude: its likelihood information is
+  // T/(2D)/2 whatever ω, so 0.05 gives an oracle z of ≈ 14 on these 32 × 200 time units.
+  {
+    HiddenCase c = make("harmonic_forcing_slow", Potential::Bistable);
+    c.hidden = "harmonic_forcing";
+    c.effect = R"J({"name": "harmonic_forcing", "params": {"amplitude": 0.05, "omega": 0.1, "phase": 0.3}})J";
+    add(c);
+  }
+  {
+    HiddenCase c = make("harmonic_forcing_per_record_slow", Potential::Bistable);
+    c.hidden = "harmonic_forcing_per_record";
+    c.effect = R"J({"name": "harmonic_forcing", "params": {"amplitude": 0.05, "omega": 0.1)J";
+    c.phase_per_record = true;
+    add(c);
+  }
+  {  // the per-record slow forcing at an oracle z of ≈ 7: where the OU excitation's one-parameter
+     // test gains on the 2R-dof per-record scan (both z's near the claim threshold)
+    HiddenCase c = make("harmonic_forcing_per_record_slow_a025", Potential::Bistable);
+    c.hidden = "harmonic_forcing_per_record";
+    c.effect = R"J({"name": "harmonic_forcing", "params": {"amplitude": 0.025, "omega": 0.1)J";
+    c.phase_per_record = true;
+    add(c);
+  }
+  for (const char* tau : {"20", "50"}) {  // OU memory beyond the colored_noise scan's longest τ (10/ω̄ ≈ 8)
+    HiddenCase c = make(std::string("colored_noise_slow_tau") + tau, Potential::Bistable);
+    c.hidden = "colored_noise";
+    c.effect = std::string(R"J({"name": "colored_noise", "params": {"tau": )J") + tau + R"J(, "intensity": 0.04}})J";
+    c.two_d = 0.01;
+    add(c);
+  }
+  {
+    HiddenCase c = make("colored_noise_slow", Potential::Bistable);
+    c.hidden = "colored_noise";
+    c.effect = R"J({"name": "colored_noise", "params": {"tau": 5.0, "intensity": 0.04}})J";
+    c.two_d = 0.01;
     add(c);
   }
   // Weak versions ("<effect>_weak"): the same set-ups with the effect scaled to an oracle z of

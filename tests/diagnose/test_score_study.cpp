@@ -13,7 +13,8 @@
 //   bench/diagnose_score_study.sh CASE [SEEDS [SEED0]]        (one case, nice 10, one thread)
 //   VEHS_SCORE_SEEDS=10 VEHS_SCORE_CASE=a,b build/tests/test_diagnose "[.score_study]"
 // VEHS_SCORE_SEED0=k: seeds k … k + SEEDS − 1; VEHS_SCORE_LOOP=0: no loop (power only);
-// VEHS_SCORE_RECORDS=n: n records instead of the case's (all of them tested: no sample cap).
+// VEHS_SCORE_RECORDS=n: n records instead of the case's (all of them tested: no sample cap);
+// VEHS_SCORE_SAMPLES=n: n samples a record (e.g. 16 records × 2500: the CI size).
 // VEHS_SCORE_ORACLE=0: no oracle refit (its z printed as 0; impact_stop's costs 50–70 s a seed).
 // VEHS_SCORE_COARSE=1: the coarse shape (score_fixtures.hpp: coarse(); Δt 0.35, 2 % sensor
 // noise, likelihood-fitted baseline), power only (the loop refits by moments).
@@ -201,6 +202,7 @@ TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusio
   const int first_seed = env_int("VEHS_SCORE_SEED0", 0);
   const bool loop = env_int("VEHS_SCORE_LOOP", 1) != 0 && env_int("VEHS_SCORE_COARSE", 0) == 0;
   const int records = env_int("VEHS_SCORE_RECORDS", 0);
+  const int samples = env_int("VEHS_SCORE_SAMPLES", 0);
   const bool with_oracle_fit = env_int("VEHS_SCORE_ORACLE", 1) != 0;
   const char* which = std::getenv("VEHS_SCORE_CASE");
   const std::string only = which ? std::string(which) + "," : "";
@@ -210,6 +212,7 @@ TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusio
   for (HiddenCase hc : hidden_cases()) {
     if (!only.empty() && only.find(hc.name + ",") == std::string::npos) continue;
     if (records > 0) hc.records = records;
+    if (samples > 0) hc.samples = std::size_t(samples);
     if (env_int("VEHS_SCORE_COARSE", 0) != 0) hc = coarse(hc);
     const bool control = hc.name.rfind("none", 0) == 0;
     const std::string& hidden = hc.effect_name();

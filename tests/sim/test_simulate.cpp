@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <stdexcept>
 #include <string>
 
 #include "vehs/core/parallel.hpp"
@@ -286,4 +287,24 @@ TEST_CASE("bad configurations get one-line errors", "[simulate][errors]") {
     so.discard = 1.0;  // records last 0.1
     CHECK(error_of([&] { simulate_statistics(m, o, so); }).find("discard") != std::string::npos);
   }
+}
+
+TEST_CASE("an exception of the progress callback stops every thread and surfaces as itself", "[simulate][errors]") {
+  // The Python binding stops a simulation on Ctrl-C by throwing from the callback; it was reported
+  // as "record 0 failed: interrupted at t = 0 (diverged: reduce dt …)", a divergence it was not.
+  struct Stop : std::runtime_error {
+    using std::runtime_error::runtime_error;
+  };
+  auto o = small_options(Scheme::Rk4Euler, 16, 200000);
+  long long events = 0;
+  o.progress = [&](const vehs::ProgressEvent& e) {
+    if (!e.finished && ++events >= 2) throw Stop("stop here");
+  };
+  std::string what;
+  try {
+    simulate(model_of(kPaper), o);
+  } catch (const Stop& e) {
+    what = e.what();
+  }
+  CHECK(what == "stop here");
 }

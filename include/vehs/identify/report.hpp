@@ -52,6 +52,7 @@ struct SelectionReport {
 
 struct FitSummary {
   std::size_t rows = 0;  ///< regression rows used
+  std::size_t rows_left_out = 0;  ///< rows left out where the lens's expansion in h does not hold (a state-dependent diffusion)
   double drift_condition_full = 0.0;  ///< of the full drift library
   double drift_condition_selected = std::numeric_limits<double>::quiet_NaN();
   double diffusion_condition_full = 0.0;
