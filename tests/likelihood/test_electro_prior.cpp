@@ -5,6 +5,9 @@
 // unbiased however many blocks the data have.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <utility>
+
 #include <Eigen/Dense>
 
 #include "electro_linear.hpp"
@@ -28,17 +31,41 @@ TEST_CASE("electromechanical prior: the linear model's stationary law given x_0"
   const Eigen::Matrix3d S = stationary_covariance();
   for (double x0 : {-0.3, 0.0, 0.17}) {
     likelihood::detail::ElectroPrior<double> p;
-    REQUIRE(likelihood::detail::electro_prior(st, c, x0, p));
+    REQUIRE(likelihood::detail::electro_prior(st, c, x0, 1.0, p));
     CHECK(p.mean_v == Approx(S(2, 0) / S(0, 0) * x0).margin(1e-12));
     CHECK(p.var_v == Approx(S(2, 2) - S(2, 0) * S(2, 0) / S(0, 0)).epsilon(1e-10));
     CHECK(p.var_y == Approx(S(1, 1) - S(1, 0) * S(1, 0) / S(0, 0)).epsilon(1e-10));
     CHECK(p.cov_yv == Approx(S(1, 2) - S(1, 0) * S(2, 0) / S(0, 0)).epsilon(1e-10));
   }
-  // a barrier (negative stiffness at x_0) has no stationary law: the caller keeps the data prior
-  for (std::size_t t = 0; t < st.drift.size(); ++t)
-    if (st.drift[t].name() == "x") c.drift[t] = 2.0;
-  likelihood::detail::ElectroPrior<double> p;
-  CHECK_FALSE(likelihood::detail::electro_prior(st, c, 0.1, p));
+  // Where the linearisation has no law (a barrier, κ < 0) the prior is that of the nearest
+  // admissible one, continuous in the parameters; only λ ≤ 0 leaves it undefined.
+  auto law = [&](double stiffness, double kappa, double lambda) {
+    auto cc = c;
+    for (std::size_t t = 0; t < st.drift.size(); ++t)
+      if (st.drift[t].name() == "x") cc.drift[t] = -stiffness;
+    cc.coupling = kappa, cc.lambda = lambda;
+    likelihood::detail::ElectroPrior<double> p;
+    const bool ok = likelihood::detail::electro_prior(st, cc, 0.1, 1.0, p);
+    return std::make_pair(ok, p);
+  };
+  auto same = [](const likelihood::detail::ElectroPrior<double>& p, const likelihood::detail::ElectroPrior<double>& q) {
+    CHECK(p.mean_v == Approx(q.mean_v).epsilon(1e-5).margin(1e-9));
+    CHECK(p.var_v == Approx(q.var_v).epsilon(1e-5));
+    CHECK(p.var_y == Approx(q.var_y).epsilon(1e-5));
+    CHECK(p.cov_yv == Approx(q.cov_yv).epsilon(1e-5));
+  };
+  for (double stiffness : {-2.0, -1e-9, 0.0, 0.5e-3, 1e-3 - 1e-9}) {
+    const auto [ok, p] = law(stiffness, kKappa, kLambda);
+    REQUIRE(ok);
+    CHECK(std::isfinite(p.mean_v));
+    CHECK(p.var_v > 0.0);
+    CHECK(p.var_y > 0.0);
+  }
+  same(law(1e-3 - 1e-9, kKappa, kLambda).second, law(1e-3 + 1e-9, kKappa, kLambda).second);
+  same(law(1.0, -1e-9, kLambda).second, law(1.0, 0.0, kLambda).second);
+  same(law(1.0, -40.0, kLambda).second, law(1.0, 0.0, kLambda).second);
+  CHECK_FALSE(law(1.0, kKappa, 0.0).first);
+  CHECK_FALSE(law(1.0, kKappa, -0.5).first);
 }
 
 // 2304 records × 250 samples (Δt 0.05): many short blocks, where a prior of v that ignores x_0

@@ -69,7 +69,7 @@ T filter_block(const Structure& st, const Coefficients<T>& c, const BlockData& b
   if constexpr (D == 4) {
     if (st.electro) {
       ElectroPrior<T> pr;
-      if (electro_prior(st, c, b.x[0], pr)) {  // the stationary law given x_0 (electro_prior.hpp)
+      if (electro_prior(st, c, b.x[0], b.y_prior_var / b.v_prior_var, pr)) {  // the stationary law given x_0 (electro_prior.hpp)
         s[2] = pr.mean_v;
         s[Pk::p(1, 1)] = pr.var_y;
         s[Pk::p(2, 2)] = pr.var_v;

@@ -18,9 +18,19 @@
 //   Var v = Cov(x, v) = E[y v]/λ,  Var x = (Var y − κ·Var v)/a,  Cov(x, y) = 0,
 // about the local equilibrium x_0 − δ, δ = −f(x_0, 0)/a; conditioned on x_0:
 //   v ~ N(δ·Var v/Var x, Var v − Var v²/Var x),  y ~ N(0, Var y),  Cov(y, v) = E[y v].
-// Exact for a linear model; near a well of a nonlinear potential the local linear law. Where
-// the linearisation has no stationary law (a ≤ 0 at a barrier, negative damping) the caller
-// keeps the data-based prior. Parameter-dependent (and differentiated through with Jets).
+// Exact for a linear model; near a well of a nonlinear potential the local linear law.
+//
+// Continuity. The law must be continuous in the parameters everywhere the optimiser may go: a
+// prior that switches to another law where the linearisation has none (a ≤ 0 at a barrier,
+// κ < 0, negative damping) made a 4-record linear fit run along its flat ridge into the other
+// law's region (coupling −39 ± 2020). So the law is that of the nearest admissible linearisation:
+// κ → max(κ, 0), and a, b floored C¹ (identity above the floor s, s·(1 + e^{2(r−1)})/2 below,
+// r = value/s, tending to s/2) at s_a = 10⁻³·ω², s_b = 10⁻³·ω, ω² = Var y / Var x of the data
+// (the caller's scales). With κ ≥ 0, a > 0, b > 0, λ > 0 every condition below holds:
+// λ² + bλ + a + κ > 0, b + κg > 0 and Var x − Var v = Var y (λ² + bλ) g/(λ a) > 0. Only λ ≤ 0
+// or a22(x_0, 0) ≤ 0 (outside the catalogue's domain: the filter fails there anyway) leave the
+// law undefined; the caller then keeps the data-based prior. Parameter-dependent (and
+// differentiated through with Jets).
 #include <cmath>
 
 #include "vehs/likelihood/detail/model_structure.hpp"
@@ -33,9 +43,19 @@ struct ElectroPrior {
   T mean_v{}, var_v{}, var_y{}, cov_yv{};
 };
 
-/// The conditional stationary law above, or false where the linearisation at x_0 has none.
+/// C¹ floor at s > 0: v above s, s·(1 + e^{2(v/s − 1)})/2 ∈ (s/2, s] below.
 template <class T>
-bool electro_prior(const Structure& st, const Coefficients<T>& c, double x0, ElectroPrior<T>& out) {
+T floor_c1(const T& v, double s) {
+  using std::exp;
+  if (value_of(v) >= s) return v;
+  return 0.5 * s * (1.0 + exp(2.0 * (v / s - 1.0)));
+}
+
+/// The conditional stationary law above; false only where λ ≤ 0 or a22(x_0, 0) ≤ 0. `omega2` is
+/// the data's Var y / Var x (the floors' scale).
+template <class T>
+bool electro_prior(const Structure& st, const Coefficients<T>& c, double x0, double omega2,
+                   ElectroPrior<T>& out) {
   T f0{}, a{}, b{}, q{};
   for (std::size_t t = 0; t < st.drift.size(); ++t) {
     const Term& term = st.drift[t];
@@ -45,22 +65,23 @@ bool electro_prior(const Structure& st, const Coefficients<T>& c, double x0, Ele
   }
   for (std::size_t j = 0; j < st.diffusion.size(); ++j) q += c.diffusion[j] * st.diffusion[j].value(x0, 0.0);
   const T& lam = c.lambda;
-  const T& kappa = c.coupling;
-  if (!(value_of(lam) > 0.0) || !(value_of(a) > 0.0) || !(value_of(q) > 0.0)) return false;
+  if (!(value_of(lam) > 0.0) || !(value_of(q) > 0.0) || !(omega2 > 0.0) || !std::isfinite(omega2))
+    return false;
+  const T kappa = value_of(c.coupling) > 0.0 ? c.coupling : T(0.0);
+  a = floor_c1(a, 1e-3 * omega2);
+  b = floor_c1(b, 1e-3 * std::sqrt(omega2));
   const T g = 1.0 / (lam + b + (a + kappa) / lam);
-  const T damping = b + kappa * g;
-  if (!(value_of(g) > 0.0) || !(value_of(damping) > 0.0)) return false;
-  const T var_y = q / (2.0 * damping);
+  const T var_y = q / (2.0 * (b + kappa * g));
   const T cov_yv = g * var_y;
   const T var_v = cov_yv / lam;
   const T var_x = (var_y - kappa * var_v) / a;
-  if (!(value_of(var_x) > value_of(var_v)) || !std::isfinite(value_of(var_x))) return false;
   const T delta = -f0 / a;
   out.mean_v = delta * var_v / var_x;
   out.var_v = var_v - var_v * var_v / var_x;
   out.var_y = var_y;
   out.cov_yv = cov_yv;
-  return std::isfinite(value_of(out.mean_v)) && std::isfinite(value_of(out.var_y));
+  return std::isfinite(value_of(out.mean_v)) && std::isfinite(value_of(out.var_y)) &&
+         std::isfinite(value_of(out.var_v)) && value_of(out.var_v) > 0.0;
 }
 
 }  // namespace vehs::likelihood::detail
