@@ -137,6 +137,15 @@ void correct_filter_bias(Result& res, const Dataset& data, const RefineOptions& 
   for (std::size_t i = 0; i < n; ++i) {
     corrected[i] += shift[Eigen::Index(i)];
     max_shift_se = std::max(max_shift_se, std::abs(shift[Eigen::Index(i)]) / std::sqrt(cov_int(Eigen::Index(i), Eigen::Index(i))));
+    // (a log-scale parameter estimated at 0, e.g. measurement_sd on noise-free data, has no
+    // finite internal scale: no correction rather than a NaN in the model file)
+    if (!std::isfinite(corrected[i]) || !std::isfinite(p.natural(i, corrected[i])))
+    {
+      char v[32];
+      std::snprintf(v, sizeof v, "%.4g", res.values[i]);
+      throw Error(where + ": no finite correction of " + p.parameters()[i].name + " (estimate " + v +
+                  " at the edge of its scale)");
+    }
   }
   const double inflation = 1.0 + 1.0 / double(B);
   Eigen::VectorXd J(m);

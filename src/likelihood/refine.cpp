@@ -12,8 +12,10 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/likelihood/detail/bias_correction.hpp"
+#include "vehs/likelihood/detail/data_share.hpp"
 #include "vehs/likelihood/detail/domain.hpp"
 #include "vehs/likelihood/detail/evaluator.hpp"
+#include "vehs/likelihood/detail/hidden_state_starts.hpp"
 #include "vehs/likelihood/detail/phase_scan.hpp"
 #include "vehs/likelihood/detail/selection.hpp"
 
@@ -218,32 +220,6 @@ FitState maximise(const Evaluator& ev, Eigen::VectorXd theta, const RefineOption
   return st;
 }
 
-/// A share of the data for the warm start: eight evenly spaced pieces of every record (so that
-/// the piece covers the record's range of amplitudes), or, with per-record parameters (phases),
-/// the leading share of every record (one record per record).
-Dataset warm_start_share(const Dataset& data, double share, bool keep_records) {
-  Dataset out;
-  for (const auto& r : data.records) {
-    const std::size_t want = std::min(r.size, std::max<std::size_t>(std::size_t(std::ceil(share * double(r.size))), 64));
-    const std::size_t pieces = keep_records ? 1 : std::max<std::size_t>(1, std::min<std::size_t>(8, want / 250));
-    const std::size_t len = (want + pieces - 1) / pieces;
-    for (std::size_t p = 0; p < pieces; ++p) {
-      const std::size_t first = pieces == 1 ? 0 : (r.size - len) * p / (pieces - 1);
-      const std::size_t n = std::min(len, r.size - first);
-      if (n < 2) continue;
-      Record rr = r;
-      rr.offset = out.x.size();
-      rr.size = n;
-      rr.first_line = r.first_line + first;
-      rr.t0 = r.t0 + double(first) * r.dt;
-      out.x.insert(out.x.end(), data.x_of(r) + first, data.x_of(r) + first + n);
-      if (data.has_u()) out.u.insert(out.u.end(), data.u_of(r) + first, data.u_of(r) + first + n);
-      out.records.push_back(rr);
-    }
-  }
-  return out;
-}
-
 double data_sd(const Dataset& data) {
   double mean = 0.0, m2 = 0.0;
   std::size_t n = 0;
@@ -436,6 +412,7 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
   }
   repair_start(first, data, options.filter);
   if (options.per_record_phase) detail::scan_record_phases(first, data, options.filter, choice);
+  first = detail::best_hidden_state_start(first, data, options, choice);
   Result res = options.select ? detail::select_support(first, data, options, choice)
                               : detail::fit_support(first, data, options, choice, true);
   detail::respect_domain(res);  // a negative amplitude flipped, other estimates outside the catalogue refused

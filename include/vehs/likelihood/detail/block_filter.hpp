@@ -3,8 +3,10 @@
 // long record), generic over the scalar type T and the state dimension D.
 //
 // Start: the block is conditioned on its first sample — x ~ N(x_0, measurement variance) (a
-// diffuse prior updated with x_0), y ~ N(0, y_prior_var), v ~ N(0, v_prior_var) (data-based
-// priors, the same for every parameter value), η from its stationary law N(0, intensity/2τ).
+// diffuse prior updated with x_0), y ~ N(0, y_prior_var) (data-based, the same for every
+// parameter value); with electromechanical_coupling (y, v) from the stationary law of the model
+// linearised at x_0, given x_0 (electro_prior.hpp), or where that has none y as above and
+// v ~ N(0, v_prior_var); η from its stationary law N(0, intensity/2τ).
 // Then for k = 1 … n−1: time update over [t_{k−1}, t_k] by RK4 substeps of the moment equations
 // (the drive held or interpolated over [t_{k−1}, t_k], input_path.hpp), measurement update with
 // x_k = x(t_k) + ε_k: innovation e_k = x_k − m_x, S_k = P_xx + σ_ε², log-likelihood
@@ -13,6 +15,7 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "vehs/likelihood/detail/electro_prior.hpp"
 #include "vehs/likelihood/detail/moment_system.hpp"
 #include "vehs/likelihood/ode.hpp"
 
@@ -64,7 +67,17 @@ T filter_block(const Structure& st, const Coefficients<T>& c, const BlockData& b
   s[Pk::p(0, 0)] = c.measurement_var;
   s[Pk::p(1, 1)] = T(b.y_prior_var);
   if constexpr (D == 4) {
-    if (st.electro) s[Pk::p(2, 2)] = T(b.v_prior_var);
+    if (st.electro) {
+      ElectroPrior<T> pr;
+      if (electro_prior(st, c, b.x[0], b.y_prior_var / b.v_prior_var, pr)) {  // the stationary law given x_0 (electro_prior.hpp)
+        s[2] = pr.mean_v;
+        s[Pk::p(1, 1)] = pr.var_y;
+        s[Pk::p(2, 2)] = pr.var_v;
+        s[Pk::p(1, 2)] = pr.cov_yv;
+      } else {
+        s[Pk::p(2, 2)] = T(b.v_prior_var);
+      }
+    }
     if (st.colored) s[Pk::p(3, 3)] = c.intensity / (2.0 * c.tau);
   }
   T total{};
