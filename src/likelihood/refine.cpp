@@ -17,6 +17,7 @@
 #include "vehs/likelihood/detail/evaluator.hpp"
 #include "vehs/likelihood/detail/hidden_state_starts.hpp"
 #include "vehs/likelihood/detail/phase_scan.hpp"
+#include "vehs/likelihood/detail/record_phase_bias.hpp"
 #include "vehs/likelihood/detail/selection.hpp"
 
 namespace vehs::likelihood {
@@ -400,6 +401,9 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
   std::string why;
   if (!options.IsValid(&why)) throw Error("likelihood: " + why);
   validate_model(start.model, "likelihood: start model");
+  if (!options.per_record_phase && !start.record_phases.empty())
+    throw Error("likelihood: the start model has one harmonic_forcing phase per record (record_phases) but "
+                "per_record_phase is false: the fit would use the shared phase in every record");
   ObservedModel first = start;
   detail::FitChoice choice;
   choice.fit_measurement_noise = options.estimate_measurement_noise;
@@ -416,6 +420,14 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
   Result res = options.select ? detail::select_support(first, data, options, choice)
                               : detail::fit_support(first, data, options, choice, true);
   detail::respect_domain(res);  // a negative amplitude flipped, other estimates outside the catalogue refused
+  if (options.per_record_phase) {
+    const double f = detail::correct_record_phase_bias(res);
+    if (options.log && f != 1.0) {
+      char line[160];
+      std::snprintf(line, sizeof line, "likelihood: amplitude x %.5f for the free phases' bias (record_phase_bias.hpp)", f);
+      options.log(line);
+    }
+  }
   choice.fit_measurement_noise = res.find("measurement_sd") >= 0;
   if (options.bias_correction_datasets > 0 && !options.bias_correction_auto) {
     detail::correct_filter_bias(res, data, options, choice);

@@ -73,7 +73,10 @@ struct RefineOptions {
   /// or `measurement_sd_start` when that is 0, or 1 % of std(x) when both are 0.
   bool estimate_measurement_noise = true;
   double measurement_sd_start = 0.0;
-  bool per_record_phase = false;      ///< one harmonic_forcing phase per record
+  /// One harmonic_forcing phase per record (the start's record_phases, else scanned); the shared
+  /// amplitude is returned corrected for the free phases' first-order bias
+  /// (detail/record_phase_bias.hpp). A start with record_phases needs it (else an error).
+  bool per_record_phase = false;
   std::vector<std::string> fixed;     ///< parameter names held at their start values
   Covariance covariance = Covariance::Observed;
   std::size_t sandwich_batch = 0;     ///< samples per batch (0: a record each, ≥ 50 batches)
