@@ -173,7 +173,7 @@ void print_bias(const std::string& label, const SignedErrors& params) {
 /// estimate's support refitted without selection or correction from `r` (the same maximum),
 /// its SEs × √(1 + 1/B) when `r` was bias-corrected; the values stay r's.
 likelihood::Result with_other_stderrs(const likelihood::Result& r, const Dataset& d, likelihood::RefineOptions o,
-                                      const char* covariance) {
+                                      const char* covariance, likelihood::Result* maximum = nullptr) {
   const int B = r.summary.bias_correction_datasets;
   o.covariance = enum_from_string(likelihood::kCovarianceNames, covariance, "VEHS_SECOND_COVARIANCE");
   o.select = false;
@@ -182,6 +182,7 @@ likelihood::Result with_other_stderrs(const likelihood::Result& r, const Dataset
   o.warm_start_samples = std::size_t(-1);  // (starts at the maximum: no warm start)
   o.log = {};
   const likelihood::Result r2 = likelihood::refine(r.model, d, o);
+  if (maximum) *maximum = r2;  // the uncorrected maximum with its own SEs
   likelihood::Result out = r;
   for (std::size_t i = 0; i < r.parameters.size(); ++i) {
     const int j = r2.find(r.parameters[i].name);
@@ -213,7 +214,7 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
   std::printf("%-5s %-8s | %-6s %8s %-40s | %-6s %7s %7s %6s %7s %7s\n", "seed", "samples", "before", "rel.err", "before support",
               "exact", "max|z|", "rel.err", "cover", "seconds", "cpu");
   int exact = 0, within = 0, covered = 0, total = 0, before_exact = 0;
-  SignedErrors signed_errors, second_errors;
+  SignedErrors signed_errors, second_errors, uncorrected_errors;
   const int first = std::getenv("FIRST_SEED") ? std::atoi(std::getenv("FIRST_SEED")) : 0;  // seeds FIRST …
   // VEHS_SECOND_COVARIANCE=sandwich|fisher|observed: z also with that choice's SEs (same estimates)
   const char* second = std::getenv("VEHS_SECOND_COVARIANCE");
@@ -254,18 +255,25 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
     for (const auto& tc : truth.diffusion) record_signed(signed_errors, r, "diffusion[" + tc.term.name() + "]", tc.coef);
     if (noise > 0) record_signed(signed_errors, r, "measurement_sd", noise);
     if (second) {
-      const likelihood::Result r2 = with_other_stderrs(r, d, o, second);
+      likelihood::Result r_max;
+      const likelihood::Result r2 = with_other_stderrs(r, d, o, second, &r_max);
       second_method = r2.summary.covariance;
+      if (bias_sets > 0) {  // the maximum before the bias correction, with its own SEs: "zu"
+        for (const auto& tc : truth.drift) record_signed(uncorrected_errors, r_max, "drift[" + tc.term.name() + "]", tc.coef);
+        for (const auto& tc : truth.diffusion)
+          record_signed(uncorrected_errors, r_max, "diffusion[" + tc.term.name() + "]", tc.coef);
+      }
       for (const auto& tc : truth.drift) record_signed(second_errors, r2, "drift[" + tc.term.name() + "]", tc.coef);
       for (const auto& tc : truth.diffusion) record_signed(second_errors, r2, "diffusion[" + tc.term.name() + "]", tc.coef);
       if (noise > 0) record_signed(second_errors, r2, "measurement_sd", noise);
     }
     ++fitted;
     if (verbose)  // every seed's z (runs stopped early can still be summarised)
-      for (const auto* e : {&signed_errors, &second_errors})
+      for (const auto* e : {&signed_errors, &second_errors, &uncorrected_errors})
         for (const auto& [name, list] : *e)
           if (list.size() == fitted)
-            std::fprintf(stderr, "z%s seed %d %s %+.4f rel %+.5f\n", e == &signed_errors ? "" : "2", s, name.c_str(),
+            std::fprintf(stderr, "z%s seed %d %s %+.4f rel %+.5f\n",
+                         e == &signed_errors ? "" : e == &second_errors ? "2" : "u", s, name.c_str(),
                          list.back().first, list.back().second);
     exact += ok_support;
     before_exact += same_support(before.model, truth);
@@ -289,6 +297,11 @@ int synthetic(const std::string& which, double dt, double noise_share, int seeds
     std::printf("the same estimates with %s standard errors (VEHS_SECOND_COVARIANCE=%s; x sqrt(1 + 1/B) when corrected):\n",
                 second_method.c_str(), second);
     print_bias(which, second_errors);
+    if (!uncorrected_errors.empty()) {
+      std::printf("the maximum before the bias correction, with its own %s standard errors (\"zu\"):\n",
+                  second_method.c_str());
+      print_bias(which, uncorrected_errors);
+    }
   }
   std::printf("\n");
   return 0;
