@@ -6,20 +6,11 @@
 #include <cmath>
 
 #include "vehs/core/error.hpp"
+#include "vehs/likelihood/detail/data_scales.hpp"
 
 namespace vehs::likelihood::detail {
 
 namespace {
-
-double variance(const double* v, std::size_t n) {
-  double mean = 0.0, m2 = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double d = v[i] - mean;
-    mean += d / double(i + 1);
-    m2 += d * (v[i] - mean);
-  }
-  return n > 1 ? m2 / double(n - 1) : 0.0;
-}
 
 void check_data(const Structure& st, const Dataset& data, const std::string& where) {
   if (data.has_u() && data.u.size() != data.x.size())
@@ -93,17 +84,8 @@ Evaluator::Evaluator(const Parameterization& p, const Dataset& data, const Filte
     throw Error(where + ": the model has phases for " + std::to_string(p.records()) +
                 " records but the data have " + std::to_string(data.records.size()));
   // data-based priors of the hidden states at a block's first sample
-  double vdx = 0.0, nd = 0.0;
-  for (const auto& r : data.records) {
-    const double* x = data.x_of(r);
-    for (std::size_t k = 0; k + 1 < r.size; ++k) {
-      const double d = (x[k + 1] - x[k]) / dt;
-      vdx += d * d;
-      nd += 1.0;
-    }
-  }
-  const double y_var = std::max(2.0 * vdx / std::max(nd, 1.0), 1e-300);
-  const double x_var = std::max(2.0 * variance(data.x.data(), data.x.size()), 1e-300);
+  const double y_var = std::max(2.0 * mean_squared_rate(data), 1e-300);
+  const double x_var = std::max(2.0 * x_variance(data), 1e-300);
   const std::size_t bl = std::max<std::size_t>(options.block_samples, 2);
   for (std::size_t ri = 0; ri < data.records.size(); ++ri) {
     const Record& r = data.records[ri];

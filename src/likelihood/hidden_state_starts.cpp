@@ -7,6 +7,7 @@
 #include <string>
 
 #include "vehs/core/error.hpp"
+#include "vehs/likelihood/detail/data_scales.hpp"
 #include "vehs/likelihood/detail/data_share.hpp"
 #include "vehs/likelihood/detail/selection.hpp"
 
@@ -14,20 +15,10 @@ namespace vehs::likelihood::detail {
 
 namespace {
 
-/// mean (Δx/Δt)² / Var x over the records (0 when undefined).
+/// mean (Δx/Δt)² / Var x (0 when undefined).
 double data_omega2(const Dataset& data) {
-  double sum = 0.0, sum2 = 0.0, d2 = 0.0, nd = 0.0;
-  for (double x : data.x) sum += x, sum2 += x * x;
-  const double n = double(data.x.size());
-  for (const auto& r : data.records) {
-    const double* x = data.x_of(r);
-    for (std::size_t k = 0; k + 1 < r.size; ++k) {
-      const double d = (x[k + 1] - x[k]) / r.dt;
-      d2 += d * d, nd += 1.0;
-    }
-  }
-  const double var = n > 1.0 ? (sum2 - sum * sum / n) / (n - 1.0) : 0.0;
-  return var > 0.0 && nd > 0.0 ? d2 / nd / var : 0.0;
+  const double var = x_variance(data), rate = mean_squared_rate(data);
+  return var > 0.0 ? rate / var : 0.0;
 }
 
 bool held(const FitChoice& choice, const std::string& name) {

@@ -12,6 +12,7 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/likelihood/detail/bias_correction.hpp"
+#include "vehs/likelihood/detail/data_scales.hpp"
 #include "vehs/likelihood/detail/data_share.hpp"
 #include "vehs/likelihood/detail/domain.hpp"
 #include "vehs/likelihood/detail/evaluator.hpp"
@@ -221,18 +222,6 @@ FitState maximise(const Evaluator& ev, Eigen::VectorXd theta, const RefineOption
   return st;
 }
 
-double data_sd(const Dataset& data) {
-  double mean = 0.0, m2 = 0.0;
-  std::size_t n = 0;
-  for (double v : data.x) {
-    ++n;
-    const double d = v - mean;
-    mean += d / double(n);
-    m2 += d * (v - mean);
-  }
-  return n > 1 ? std::sqrt(m2 / double(n - 1)) : 0.0;
-}
-
 /// Covariance of θ (internal scale) at the optimum.
 Eigen::MatrixXd internal_covariance(const Evaluator& ev, const FitState& st, const RefineOptions& o,
                                     Summary& s) {
@@ -411,7 +400,7 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
   choice.fixed = options.fixed;
   if (options.estimate_measurement_noise && !(first.measurement_sd > 0.0)) {
     first.measurement_sd = options.measurement_sd_start > 0.0 ? options.measurement_sd_start
-                                                              : 0.01 * data_sd(data);
+                                                              : 0.01 * std::sqrt(detail::x_variance(data));
     if (!(first.measurement_sd > 0.0)) throw Error("likelihood: the records have zero variance");
   }
   repair_start(first, data, options.filter);

@@ -9,12 +9,12 @@
 // records of equal information. refine() returns Â·(1 − h/2) (first order; it under-corrects when
 // a record's own signal-to-noise A/(√R·SE) is below about 2).
 //
-// Measured (24 Nov 2026, bistable Duffing, A 0.12 at ω 0.8, Δt 0.35, ≈ 64 000 samples, fits
-// from the truth with the phases free and with the true phases held): the shift free − held is
-// 0.027 ± 0.006, 0.139 ± 0.008 and 0.56 ± 0.06 SE at R = 4, 16 and 64 records (predicted 0.033,
-// 0.133, 0.53); after the correction −0.003 ± 0.008 SE at R = 16 (40 seeds) and +0.06 ± 0.06 at
-// R = 64 (6 seeds). Over 100 seeds with the phases held the amplitude's z has mean −0.03 ± 0.10
-// and sd 0.95: the maximum is otherwise unbiased and its SE right.
+// Measured (bench/bench_record_phase_bias.cpp, bench/results/record_phase_bias.txt: bistable
+// Duffing, A 0.12 at ω 0.8, Δt 0.35, ≈ 64 000 samples, fits from the truth with the true phases
+// held against free): the shift free − held is 0.043 ± 0.010, 0.128 ± 0.008 and 0.514 ± 0.020 SE
+// at R = 4, 16 and 64 records (predicted 0.033, 0.133, 0.527); after the correction −0.010 ±
+// 0.010, −0.014 ± 0.008 and +0.017 ± 0.020. With the phases held the amplitude's mean z is
+// −0.07 ± 0.14 (R 16, 40 seeds): the maximum is otherwise unbiased.
 #include "vehs/likelihood/refine.hpp"
 
 namespace vehs::likelihood::detail {
