@@ -1,12 +1,13 @@
 // The residual-lines test of a diagnosis: the largest excess of the residual spectrum in ONE
 // frequency bin (a periodic force the model lacks is a line that log-spaced bands dilute). Per
-// bin k, the paired t statistic of log(P_data/P_twin) over units; the largest t is referred to
+// bin k, the paired t statistic over units of log P_data minus the mean over twins of log P_twin; the largest t is referred to
 // the one-sided t law with U − 1 degrees of freedom, Bonferroni over the bins.
 #include <cmath>
 #include <limits>
 #include <sstream>
 
 #include "comparison.hpp"
+#include "unit_math.hpp"
 #include "vehs/diagnose/distributions.hpp"
 
 namespace vehs::diagnose::detail {
@@ -30,10 +31,10 @@ Component residual_line_test(const Comparison& cmp) {
     for (std::size_t j = 0; j < Ud; ++j) {
       const auto& a = dstats[j];
       const auto& b = tstats[j];
-      if (!(a.replicates > 0 && b.replicates > 0) || k >= a.rpsd.size() || k >= b.rpsd.size()) continue;
-      const double va = a.rpsd[k] / a.replicates, vb = b.rpsd[k] / b.replicates;
-      if (!(va > 0 && vb > 0)) continue;
-      const double d = std::log(va / vb);
+      if (k >= a.rpsd.size() || k >= b.rpsd.size()) continue;
+      // mean of the replicates' logs on both sides (unit_stats.hpp: a log of a mean is biased)
+      const double d = mean_log_band(a.rpsd_each, k, k + 1) - mean_log_band(b.rpsd_each, k, k + 1);
+      if (!std::isfinite(d)) continue;
       s1 += d;
       s2 += d * d;
       ++n;

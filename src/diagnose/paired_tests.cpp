@@ -24,14 +24,13 @@ std::vector<PairedStatistic> paired_statistics(const StatsSetup& setup, int U) {
   const auto edges_x = log_bands(setup.seg_x / 2, std::min(12, pmax));
   auto spectrum_fn = [](const std::vector<std::size_t>& edges, bool residual) -> DiffFn {
     return [edges, residual](const UnitStats& a, const UnitStats& b, Eigen::VectorXd& d) {
-      const auto& pa = residual ? a.rpsd : a.xpsd;
-      const auto& pb = residual ? b.rpsd : b.xpsd;
-      if (!(a.replicates > 0 && b.replicates > 0)) return false;
+      // mean of the replicates' logs on both sides (unit_stats.hpp: a log of a mean is biased)
+      const auto& pa = residual ? a.rpsd_each : a.xpsd_each;
+      const auto& pb = residual ? b.rpsd_each : b.xpsd_each;
       for (std::size_t k = 0; k + 1 < edges.size(); ++k) {
-        const double va = band_mean(pa, edges[k], edges[k + 1]) / a.replicates;
-        const double vb = band_mean(pb, edges[k], edges[k + 1]) / b.replicates;
-        if (!(va > 0 && vb > 0)) return false;
-        d[static_cast<Eigen::Index>(k)] = std::log(va / vb);
+        const double dk = mean_log_band(pa, edges[k], edges[k + 1]) - mean_log_band(pb, edges[k], edges[k + 1]);
+        if (!std::isfinite(dk)) return false;
+        d[static_cast<Eigen::Index>(k)] = dk;
       }
       return true;
     };
@@ -71,11 +70,10 @@ std::vector<PairedStatistic> paired_statistics(const StatsSetup& setup, int U) {
                       C - 1, true});
   paired.push_back({"power", "log E[X^2] and log E[v^2] (v the lens velocity; E[Y^2] is the mean power)",
                     [](const UnitStats& a, const UnitStats& b, Eigen::VectorXd& d) {
-                      const double na = rows_of(a), nb = rows_of(b);
-                      if (!(na > 0 && nb > 0 && a.sx2 > 0 && b.sx2 > 0 && a.sv2 > 0 && b.sv2 > 0)) return false;
-                      d[0] = std::log((a.sx2 / na) / (b.sx2 / nb));
-                      d[1] = std::log((a.sv2 / na) / (b.sv2 / nb));
-                      return true;
+                      // mean of the replicates' logs on both sides (unit_stats.hpp)
+                      d[0] = mean_of(a.log_msx_each) - mean_of(b.log_msx_each);
+                      d[1] = mean_of(a.log_msv_each) - mean_of(b.log_msv_each);
+                      return std::isfinite(d[0]) && std::isfinite(d[1]);
                     },
                     2, true});
   if (W >= 2)

@@ -1,5 +1,8 @@
 #include "unit_math.hpp"
 
+#include <cmath>
+#include <limits>
+
 #include "vehs/core/detail/format.hpp"
 
 namespace vehs::diagnose::detail {
@@ -56,6 +59,24 @@ double band_mean(const std::vector<double>& psd, std::size_t a, std::size_t b) {
   double s = 0.0;
   for (std::size_t k = a; k < b; ++k) s += psd[k];
   return s / static_cast<double>(b - a);
+}
+
+double mean_log_band(const std::vector<std::vector<double>>& each, std::size_t a, std::size_t b) {
+  if (each.empty()) return std::numeric_limits<double>::quiet_NaN();
+  double sum = 0.0;
+  for (const auto& psd : each) {
+    const double v = band_mean(psd, a, b);
+    if (!(v > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+    sum += std::log(v);
+  }
+  return sum / static_cast<double>(each.size());
+}
+
+double mean_of(const std::vector<double>& v) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  double sum = 0.0;
+  for (double e : v) sum += e;
+  return sum / static_cast<double>(v.size());
 }
 
 }  // namespace vehs::diagnose::detail

@@ -34,5 +34,10 @@ Ratio mean_over_units(const std::vector<double>& v);
 std::vector<std::size_t> log_bands(std::size_t kmax, int nb);
 /// Mean of psd[a, b).
 double band_mean(const std::vector<double>& psd, std::size_t a, std::size_t b);
+/// Mean over replicates of log band_mean(psd, a, b) (b = a + 1: one bin); NaN when there is no
+/// replicate or a replicate's band is not positive.
+double mean_log_band(const std::vector<std::vector<double>>& each, std::size_t a, std::size_t b);
+/// Mean of the values (NaN when empty; a non-finite value makes it non-finite).
+double mean_of(const std::vector<double>& v);
 
 }  // namespace vehs::diagnose::detail

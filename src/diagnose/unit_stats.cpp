@@ -22,6 +22,10 @@ void UnitStats::init(const StatsSetup& s) {
   hx.assign(static_cast<std::size_t>(s.hx_n), 0.0);
   hxy.assign(static_cast<std::size_t>(s.hxy_nx * s.hxy_nv), 0.0);
   sx2 = sv2 = 0.0;
+  rpsd_each.clear();
+  xpsd_each.clear();
+  log_msx_each.clear();
+  log_msv_each.clear();
   well_rows.assign(static_cast<std::size_t>(s.wells()), 0.0);
   transitions = duration = 0.0;
 }
@@ -56,6 +60,10 @@ void UnitStats::add(const UnitStats& o) {
   add_to(hxy, o.hxy);
   sx2 += o.sx2;
   sv2 += o.sv2;
+  rpsd_each.insert(rpsd_each.end(), o.rpsd_each.begin(), o.rpsd_each.end());
+  xpsd_each.insert(xpsd_each.end(), o.xpsd_each.begin(), o.xpsd_each.end());
+  log_msx_each.insert(log_msx_each.end(), o.log_msx_each.begin(), o.log_msx_each.end());
+  log_msv_each.insert(log_msv_each.end(), o.log_msv_each.begin(), o.log_msv_each.end());
   add_to(well_rows, o.well_rows);
   transitions += o.transitions;
   duration += o.duration;
@@ -129,7 +137,11 @@ void compute_unit(const StatsSetup& s, const double* x, const double* u, std::si
     lag_products(r.data(), m, L_r, out.racf.data());
     for (std::size_t l = 0; l <= L_r; ++l) out.racf_n[l] = static_cast<double>(m - l);
     welch(r.data(), m, s.dt, s.seg_r, s.seg_r, out.rpsd);
+    out.rpsd_each.assign(1, out.rpsd);
   }
+  const double rows = rows_of(out);
+  out.log_msx_each.assign(1, std::log(out.sx2 / rows));
+  out.log_msv_each.assign(1, std::log(out.sv2 / rows));
   // x, block-averaged over x_decimation samples
   const std::size_t len = span.end - span.begin;
   const std::size_t md = s.x_decimation;
@@ -142,6 +154,7 @@ void compute_unit(const StatsSetup& s, const double* x, const double* u, std::si
     xd[k] = acc / static_cast<double>(md);
   }
   welch(xd.data(), xd.size(), s.dt_x(), s.seg_x, s.seg_x / 2, out.xpsd);
+  out.xpsd_each.assign(1, out.xpsd);
   if (!stationary_only && xd.size() > s.lags_x + 1) autocorrelation_fft(xd.data(), xd.size(), s.lags_x, out.xacf);
 }
 

@@ -81,6 +81,14 @@ struct UnitStats {
   std::vector<double> racf, racf_n;
   // residual and x spectra: summed Welch densities (per replicate) and segment counts
   std::vector<double> rpsd, xpsd;
+  // each replicate's own residual and x spectra and log mean squares of x and v: the spectrum,
+  // line and power tests compare the MEAN OF THE LOGS over replicates with the data's one log. The
+  // log of the MEAN of R twins is not comparable with it: by Jensen it exceeds the log of one
+  // replicate by about ½·CV²·(1 − 1/R), a bias that the paired tests see at many units (an
+  // adequate model judged inadequate at 288 records, acf p 8e-8 with 2 twins, 7e-28 with 8;
+  // data/diagnose/README.md)
+  std::vector<std::vector<double>> rpsd_each, xpsd_each;
+  std::vector<double> log_msx_each, log_msv_each;
   // x ACF (normalised per record span), summed over replicates
   std::vector<double> xacf;
   // coarse cells (row counts) and fine histograms

@@ -87,8 +87,10 @@ TEST_CASE("electromechanical coupling: the filter's score at the truth (bench)",
       dopt.twin_scheme_auto = false, dopt.twin_scheme = sim::Scheme::Taylor15, dopt.twin_substeps = 20;
     if (std::getenv("EMC_REPLICATES")) dopt.replicates = int(env_num("EMC_REPLICATES", 2));
     const diagnose::Result dr = diagnose::diagnose(truth.model, d, dopt);
-    std::printf("  truth diagnosed %s, score %.3g (threshold %.3g):", dr.adequate() ? "adequate" : "INADEQUATE", dr.score,
-                dr.threshold);
+    std::printf("  truth diagnosed %s, score %.3g (threshold %.3g; twins %s x %d substeps, %d replicates):",
+                dr.adequate() ? "adequate" : "INADEQUATE", dr.score, dr.threshold,
+                enum_to_string(sim::kSchemeNames, dr.sampling.twin_scheme).c_str(), dr.sampling.twin_substeps,
+                dr.sampling.replicates);
     for (const auto& comp : dr.components)
       if (comp.test.available) std::printf(" %s p %.2g;", comp.name.c_str(), comp.test.p_value);
     std::printf("\n");
