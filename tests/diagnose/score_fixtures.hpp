@@ -249,6 +249,15 @@ inline std::vector<double> record_phases_of(const HiddenCase& c, std::uint64_t s
 
 inline vehs::Dataset hidden_data(const HiddenCase& c, std::uint64_t seed);
 
+/// The case without its hidden effect: the baseline that generates its null data.
+inline HiddenCase without_effect(HiddenCase c) {
+  c.effect.clear();
+  c.extra_drift.clear();
+  c.extra_diffusion.clear();
+  c.phase_per_record = false;
+  return c;
+}
+
 /// The sd of a case's white sensor noise: its share of std(x) of a noise-free pilot of 4 records.
 inline double sensor_noise_of(const HiddenCase& c, std::uint64_t seed) {
   if (!(c.sensor_noise_share > 0.0)) return 0.0;

@@ -21,6 +21,10 @@
 // VEHS_SCORE_LOOP_LIKELIHOOD=1: the loop's refit refined by the likelihood (loop_refit).
 // The per-record forcing's loop refits by the likelihood with a phase per record (as diagnose
 // recommends); VEHS_SCORE_PR_START=suspect starts it from the score suspect's amplitude and ω.
+// VEHS_SCORE_NULL=1: the case's data WITHOUT its hidden effect (the baseline alone), the oracle
+// and the suspects run as for the case: the oracle's statistic under its null (its calibration:
+// a Wald z of an effect with nuisance parameters can sit far from 0 there — per-record phases)
+// and the suspects' false claims at this data shape; no loop.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -204,6 +208,7 @@ TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusio
   const int records = env_int("VEHS_SCORE_RECORDS", 0);
   const int samples = env_int("VEHS_SCORE_SAMPLES", 0);
   const bool with_oracle_fit = env_int("VEHS_SCORE_ORACLE", 1) != 0;
+  const bool null_data = env_int("VEHS_SCORE_NULL", 0) != 0;
   const char* which = std::getenv("VEHS_SCORE_CASE");
   const std::string only = which ? std::string(which) + "," : "";
   diagnose::ScoreSuspectOptions so;
@@ -221,7 +226,7 @@ TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusio
     double ratio = 0.0, z_sum = 0.0, oracle_sum = 0.0;
     int with_oracle = 0;
     for (int k = first_seed; k < first_seed + seeds; ++k) {
-      const Dataset d = hidden_data(hc, 100 + std::uint64_t(k));
+      const Dataset d = hidden_data(null_data ? without_effect(hc) : hc, 100 + std::uint64_t(k));
       const Outcome o = run_case(hc, d, so);
       double oracle = 0.0;  // 0: control, or the oracle's likelihood refit failed (its seed is left out of z/oracle)
       std::string oracle_failure;
@@ -252,7 +257,7 @@ TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusio
       std::printf("%s seed %d (%.1f s): oracle z %.2f, suspect z %.2f, named %s%s%s\n", hc.name.c_str(), k, o.seconds,
                   oracle, z, named.c_str(), oracle_failure.empty() ? "" : (" (oracle failed: " + oracle_failure + ")").c_str(),
                   describe(o.report).c_str());
-      if (loop && !control && !hc.weak() && top.significant) {
+      if (loop && !null_data && !control && !hc.weak() && top.significant) {
         const LoopCheck lc = run_loop(hc, d, o, 100 + std::uint64_t(k));
         looped += 1, held += lc.all(), adequate += lc.adequate, halved += lc.halved;
         in_se += lc.within_se, in_15 += lc.within_15;
@@ -264,7 +269,8 @@ TEST_CASE("score suspects: study over seeds, oracle z, the loop and the confusio
                 "mean oracle z %.2f, mean z/oracle %.2f (over the %d seeds with an oracle)",
                 hc.name.c_str(), hc.records, first_significant, seeds, alone, claimed, z_sum / std::max(1, with_oracle),
                 oracle_sum / std::max(1, with_oracle), ratio / std::max(1, with_oracle), with_oracle);
-    if (loop && !control && !hc.weak())
+    if (null_data) std::printf(" [DATA WITHOUT THE HIDDEN EFFECT: claims are false claims, the oracle z its null]");
+    if (loop && !null_data && !control && !hc.weak())
       std::printf("; loop holds %d of %d (adequate %d, score halved %d, parameters within 3 SE %d, within 15 %% %d)",
                   held, looped, adequate, halved, in_se, in_15);
     std::printf("\n");

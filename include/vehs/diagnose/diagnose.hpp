@@ -37,6 +37,9 @@
 //       acf                band-averaged log power spectrum of x (the Fourier pair of its ACF);
 //       residual_lines     the largest single-frequency excess of the residual spectrum (a line:
 //                          periodic forcing), one-sided t over units, Bonferroni over the bins;
+//     (residual_spectrum, power, acf, residual_lines: a log on the data's side against the MEAN
+//     of the R twins' logs — not the log of their mean, which by Jensen sits about ½·CV²·(1 − 1/R)
+//     higher and made a true model inadequate at 288 records; src/diagnose/unit_stats.hpp)
 //       suspects           the largest held-out z of the catalogue effects the model lacks (a test
 //                          against named alternatives, Bonferroni over the effects; see 5.).
 //  4. Each component is a calibrated test with a p-value; its size is the excess normalised
@@ -54,7 +57,8 @@
 //     misfit is outside the catalogue" when the model fails far beyond the threshold.
 //
 // Units: time in the units of the records' t column; x as recorded; v̂ in x per time unit.
-// Memory: the data, one twin replicate at a time, and O(units × bins) statistics.
+// Memory: the data, one twin replicate at a time, and O(units × bins) statistics (the spectra
+// O(units × replicates × spectrum length)).
 #include <cstdint>
 #include <limits>
 #include <string>
