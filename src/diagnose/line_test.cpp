@@ -1,7 +1,8 @@
 // The residual-lines test of a diagnosis: the largest excess of the residual spectrum in ONE
 // frequency bin (a periodic force the model lacks is a line that log-spaced bands dilute). Per
-// bin k, the paired t statistic over units of log P_data minus the mean over twins of log P_twin; the largest t is referred to
-// the one-sided t law with U − 1 degrees of freedom, Bonferroni over the bins.
+// bin k, the paired t statistic over units of log P_data minus the twins' mean of log P_twin; the
+// largest t is referred to the one-sided t law with U − 1 degrees of freedom, Bonferroni over the
+// bins.
 #include <cmath>
 #include <limits>
 #include <sstream>
