@@ -24,7 +24,8 @@
 # sd of z with its 95 % interval, observed information and (VEHS_SECOND_COVARIANCE) sandwich.
 # `spread_long16_paper10`: the one Fisher-scoring step from the truth (= the maximum to first order)
 # over 100 seeds of the 16x omega_max*dt 1.0 data, its sd of z against the pooled records' prediction (2.5 CPU s a seed);
-# `spread_long16_paper10_gen160` the same with the data generated at 160 steps per interval (VEHS_GEN_SUBSTEPS; default 40).
+# `spread_long16_paper10_gen160` (`_gen72`) the same with the data generated at 160 (72) steps per interval (VEHS_GEN_SUBSTEPS;
+# default 40); the first also refits seeds 0, 4, 9 (VEHS_SPREAD_REFIT) to compare the maximum with the step.
 # VEHS_BENCH_LIKELIHOOD=path runs that binary (a copy, so that rebuilds cannot touch a study).
 # `narx` installs SysIdentPy (PyPI; an optional dependency of this benchmark only) into build/bench-venv and fits polynomial NARX models on the same Silverbox
 # split. Long: run under nice; the synthetic part takes about an hour on 2 cores.
@@ -71,8 +72,9 @@ for ((i = 0; i < ${#parts[@]}; ++i)); do
     long_paper) run long_paper "$bench" synthetic paper 0.236 0 "${PAPER_SEEDS:-20}" 1000 32 ;;
     long_bistable) run long_bistable "$bench" synthetic bistable 0.7 0 "${SEEDS:-20}" 2000 32 ;;
     score) run score_paper10noise "$bench" score paper 0.236 0.02 40 1000 8 ;;
-    spread_long16_paper10) run "$p" "$bench" spread paper 0.236 100 1000 128 ;;
+    spread_long16_paper10) VEHS_SPREAD_REFIT=0,4,9 run "$p" "$bench" spread paper 0.236 100 1000 128 ;;
     spread_long16_paper10_gen160) VEHS_GEN_SUBSTEPS=160 run "$p" "$bench" spread paper 0.236 100 1000 128 ;;
+    spread_long16_paper10_gen72) VEHS_GEN_SUBSTEPS=72 run "$p" "$bench" spread paper 0.236 100 1000 128 ;;
     innovations) run innovations_paper bash -c "
         '$bench' innovations paper 0.236 0.02 20 1000 8
         '$bench' innovations paper 0.236 0    20 1000 8

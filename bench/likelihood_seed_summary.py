@@ -5,7 +5,7 @@ VEHS_PROGRESS log (stderr), for runs stopped before their own summary or split o
   likelihood_seed_summary.py paper|bistable LOG...
 
 Reads, per seed, either the `z seed S NAME Z rel R` lines (z with the fit's SEs; `z2`: with
-VEHS_SECOND_COVARIANCE's) or the parameter block printed after each fit (`  NAME VALUE +- SE`,
+VEHS_SECOND_COVARIANCE's; `zu`: the maximum before the bias correction, with its own SEs) or the parameter block printed after each fit (`  NAME VALUE +- SE`,
 the last block before the next seed's first fit line; z against the model's truth; the
 measurement noise, whose truth varies by seed, is left out). Prints, as the bench does, per
 parameter: mean z (+- 1/sqrt(n)), sd of z with its 95 % interval (chi-square, n - 1 degrees of
@@ -20,7 +20,7 @@ TRUTH = {
               "drift[y]": -0.1, "diffusion[1]": 0.02, "diffusion[x^2]": 0.01},
     "bistable": {"drift[x]": 1.0, "drift[x^3]": -1.0, "drift[y]": -0.1, "diffusion[1]": 0.04},
 }
-Z_LINE = re.compile(r"^z(2?) seed (\d+) (\S+) ([-+0-9.eE]+) rel ([-+0-9.eE]+)$")
+Z_LINE = re.compile(r"^z(2?|u) seed (\d+) (\S+) ([-+0-9.eE]+) rel ([-+0-9.eE]+)$")
 PARAM_LINE = re.compile(r"^  (\S+)\s+([-+0-9.eE]+) \+-\s+([-+0-9.eE]+)$")
 
 
@@ -32,14 +32,14 @@ def chi2_quantile(k, p):
 
 
 def read(paths, truth):
-    first, second = {}, {}  # name -> list of (z, rel)
+    first, second, uncorrected = {}, {}, {}  # name -> list of (z, rel)
     for path in paths:
         block, blocks = {}, []
         for line in open(path, encoding="utf-8"):
             line = line.rstrip("\n")
             m = Z_LINE.match(line)
             if m:
-                (second if m.group(1) else first).setdefault(m.group(3), []).append((float(m.group(4)), float(m.group(5))))
+                {"": first, "2": second, "u": uncorrected}[m.group(1)].setdefault(m.group(3), []).append((float(m.group(4)), float(m.group(5))))
                 continue
             m = PARAM_LINE.match(line)
             if m:
@@ -54,7 +54,7 @@ def read(paths, truth):
                 for name, (value, se) in b.items():
                     if name in truth:
                         first.setdefault(name, []).append(((value - truth[name]) / se, (value - truth[name]) / abs(truth[name])))
-    return first, second
+    return first, second, uncorrected
 
 
 def summarise(label, params):
@@ -75,11 +75,14 @@ def summarise(label, params):
 def main():
     if len(sys.argv) < 3 or sys.argv[1] not in TRUTH:
         sys.exit(__doc__)
-    first, second = read(sys.argv[2:], TRUTH[sys.argv[1]])
+    first, second, uncorrected = read(sys.argv[2:], TRUTH[sys.argv[1]])
     summarise(sys.argv[1], first)
     if second:
         print("the same estimates with the second covariance choice's standard errors:")
         summarise(sys.argv[1], second)
+    if uncorrected:
+        print("the maximum before the bias correction, with its own standard errors (\"zu\"):")
+        summarise(sys.argv[1], uncorrected)
 
 
 if __name__ == "__main__":
