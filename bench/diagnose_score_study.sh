@@ -4,7 +4,8 @@
 # and the load average at the end.
 #   bench/diagnose_score_study.sh CASE [SEEDS [SEED0]]     e.g. bench/diagnose_score_study.sh impact_stop 10
 # VEHS_SCORE_LOOP=0: power only (no refit with the named effect); VEHS_SCORE_RECORDS=n: n records; VEHS_SCORE_SAMPLES=n: n samples a record;
-# VEHS_SCORE_ORACLE=0: no oracle refit (the loop alone); VEHS_SCORE_LOOP_LIKELIHOOD=1: the loop's refit refined by the likelihood; VEHS_SCORE_COARSE=1: Δt 0.35 with 2 % sensor noise, likelihood-fitted baseline (power only).
+# VEHS_SCORE_ORACLE=0: no oracle refit (the loop alone); VEHS_SCORE_LOOP_LIKELIHOOD=1 / 0: the loop's refit always / never refined by the
+# likelihood (default: as identify-vehs's estimator "auto" decides); VEHS_SCORE_COARSE=1: Δt 0.35 with 2 % sensor noise, likelihood-fitted baseline (power only).
 # VEHS_SCORE_NULL=1: the case's data without its hidden effect (the oracle's null, the suspects' false claims).
 # VEHS_SCORE_PR_START=suspect: the per-record forcing's likelihood refit starts from the score suspect's amplitude and ω
 # (default: from every record's own moment fit, as identify-vehs's per_record_phase does).
@@ -19,7 +20,8 @@ tag="${VEHS_SCORE_RECORDS:+.records$VEHS_SCORE_RECORDS}${VEHS_SCORE_SAMPLES:+.sa
 [ "${VEHS_SCORE_LOOP:-1}" = 0 ] && tag="$tag.noloop"
 [ "${VEHS_SCORE_COARSE:-0}" = 1 ] && tag="$tag.coarse"
 [ "${VEHS_SCORE_ORACLE:-1}" = 0 ] && tag="$tag.nooracle"
-[ "${VEHS_SCORE_LOOP_LIKELIHOOD:-0}" = 1 ] && tag="$tag.looplik"
+[ "${VEHS_SCORE_LOOP_LIKELIHOOD:-}" = 1 ] && tag="$tag.looplik"
+[ "${VEHS_SCORE_LOOP_LIKELIHOOD:-}" = 0 ] && tag="$tag.loopmoments"
 [ -n "${VEHS_SCORE_PR_START:-}" ] && tag="$tag.start-$VEHS_SCORE_PR_START"
 [ "${VEHS_SCORE_NULL:-0}" = 1 ] && tag="$tag.null"
 log="$root/out/score_study/$case.seeds$seed0-$((seed0 + seeds - 1))$tag.log"

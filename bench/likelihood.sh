@@ -26,6 +26,10 @@
 # over 100 seeds of the 16x omega_max*dt 1.0 data, its sd of z against the pooled records' prediction (2.5 CPU s a seed);
 # `spread_long16_paper10_gen160` (`_gen72`) the same with the data generated at 160 (72) steps per interval (VEHS_GEN_SUBSTEPS;
 # default 40); the first also refits seeds 0, 4, 9 (VEHS_SPREAD_REFIT) to compare the maximum with the step.
+# `spread_long16_paper05`: the same at omega_max*dt 0.5 (the data of corrected_long16_paper05; ~5 CPU s a seed).
+# `hidden_state_bias`: identify's moment fit of electromechanical_coupling and colored_noise against
+# dt at 288 records (bench_hidden_state_bias; the likelihood's at dt 0.05 for 2 seeds each): the
+# evidence for the hidden-state rule of estimator "auto" (vehs/likelihood/adequacy.hpp); ~10 CPU min.
 # VEHS_BENCH_LIKELIHOOD=path runs that binary (a copy, so that rebuilds cannot touch a study).
 # `narx` installs SysIdentPy (PyPI; an optional dependency of this benchmark only) into build/bench-venv and fits polynomial NARX models on the same Silverbox
 # split. Long: run under nice; the synthetic part takes about an hour on 2 cores.
@@ -75,6 +79,12 @@ for ((i = 0; i < ${#parts[@]}; ++i)); do
     spread_long16_paper10) VEHS_SPREAD_REFIT=0,4,9 run "$p" "$bench" spread paper 0.236 100 1000 128 ;;
     spread_long16_paper10_gen160) VEHS_GEN_SUBSTEPS=160 run "$p" "$bench" spread paper 0.236 100 1000 128 ;;
     spread_long16_paper10_gen72) VEHS_GEN_SUBSTEPS=72 run "$p" "$bench" spread paper 0.236 100 1000 128 ;;
+    spread_long16_paper05) run "$p" "$bench" spread paper 0.118 100 1000 128 ;;
+    hidden_state_bias) run "$p" bash -c "
+        '$build/bench/bench_hidden_state_bias' electromechanical_coupling 288 8 0.1 0.05 0.025 0.0125
+        '$build/bench/bench_hidden_state_bias' colored_noise 288 6 0.1 0.05 0.025
+        VEHS_HIDDEN_LIKELIHOOD=1 '$build/bench/bench_hidden_state_bias' electromechanical_coupling 288 2 0.05
+        VEHS_HIDDEN_LIKELIHOOD=1 '$build/bench/bench_hidden_state_bias' colored_noise 288 2 0.05" ;;
     innovations) run innovations_paper bash -c "
         '$bench' innovations paper 0.236 0.02 20 1000 8
         '$bench' innovations paper 0.236 0    20 1000 8

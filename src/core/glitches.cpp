@@ -1,5 +1,7 @@
 #include "vehs/core/glitches.hpp"
 
+#include "vehs/core/drop_samples.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -64,34 +66,9 @@ std::string describe_glitches(const Dataset& data, const std::vector<Glitch>& gl
 }
 
 Dataset drop_glitches(const Dataset& data, const std::vector<Glitch>& glitches, std::size_t min_samples) {
-  Dataset out;
-  std::size_t g = 0;
-  auto piece = [&](const Record& rec, std::size_t from, std::size_t to) {  // samples [from, to)
-    if (to - from < std::max<std::size_t>(min_samples, 2)) return;
-    Record r = rec;
-    r.offset = out.x.size();
-    r.size = to - from;
-    r.first_line = rec.first_line + from;
-    r.t0 = rec.t0 + static_cast<double>(from) * rec.dt;
-    out.x.insert(out.x.end(), data.x.begin() + static_cast<std::ptrdiff_t>(rec.offset + from),
-                 data.x.begin() + static_cast<std::ptrdiff_t>(rec.offset + to));
-    if (data.has_u())
-      out.u.insert(out.u.end(), data.u.begin() + static_cast<std::ptrdiff_t>(rec.offset + from),
-                   data.u.begin() + static_cast<std::ptrdiff_t>(rec.offset + to));
-    if (data.has_y())
-      out.y.insert(out.y.end(), data.y.begin() + static_cast<std::ptrdiff_t>(rec.offset + from),
-                   data.y.begin() + static_cast<std::ptrdiff_t>(rec.offset + to));
-    out.records.push_back(r);
-  };
-  for (std::size_t k = 0; k < data.records.size(); ++k) {
-    std::size_t from = 0;
-    for (; g < glitches.size() && glitches[g].record == k; ++g) {
-      piece(data.records[k], from, glitches[g].sample);
-      from = glitches[g].sample + 1;
-    }
-    piece(data.records[k], from, data.records[k].size);
-  }
-  return out;
+  std::vector<SampleRef> removed;
+  for (const Glitch& g : glitches) removed.push_back({g.record, g.sample});
+  return drop_samples(data, removed, min_samples);
 }
 
 }  // namespace vehs

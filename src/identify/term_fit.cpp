@@ -15,6 +15,7 @@
 #include "pilot.hpp"
 #include "standard_errors.hpp"
 #include "vehs/core/detail/format.hpp"
+#include "vehs/core/dominant_frequency.hpp"
 #include "vehs/core/error.hpp"
 
 namespace vehs::identify::detail {
@@ -86,21 +87,27 @@ struct EstimatorDecision {
   SamplingVerdict verdict = SamplingVerdict::Unknown;
 };
 
-EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested) {
+EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested, double omega_dt) {
   EstimatorDecision d;
   d.estimator = requested;
   const SamplingRule rule = sampling_rule(diag.rho_k, diag.rho_2k, diag.rho_3k, diag.rows);
   d.verdict = rule.verdict;
   if (requested != Estimator::Auto) return d;
+  const std::string at = diag.k > 1 ? " at stride " + std::to_string(diag.k) : "";
   if (rule.noisy) {
     d.estimator = Estimator::Noisy;
     d.reason = "white sensor noise makes up " + fmt(100 * rule.noise_share) +
                " % of the variance of the ULI acceleration (lag-2k autocorrelation " + fmt(diag.rho_2k) +
-               " above lag-3k " + fmt(diag.rho_3k) + ")";
+               " above lag-3k " + fmt(diag.rho_3k) + at + ")";
   } else if (rule.continuous) {
     d.estimator = Estimator::Uli;
-    d.reason = "ULI residuals have lag-1 autocorrelation " + fmt(diag.rho_k) +
+    d.reason = "ULI residuals have lag-" + std::string(diag.k > 1 ? "k" : "1") + " autocorrelation " + fmt(diag.rho_k) + at +
                " (about +1/4: a sensor sampling a continuous-time process)";
+  } else if (sampling_unexplained(rule.verdict, diag.rho_k, diag.rho_3k, omega_dt)) {
+    d.estimator = Estimator::Forward;
+    d.reason = "ULI residuals have lag-1 autocorrelation " + fmt(diag.rho_k) +
+               ", neither about 0 (an explicit scheme at the recorded step) nor about +1/4 (a sensor on a "
+               "continuous process): quantised values, dropouts, stuck or clipped stretches? forward used";
   } else {
     d.estimator = Estimator::Forward;
     d.reason = "ULI residuals have lag-1 autocorrelation " + fmt(diag.rho_k) +
@@ -117,6 +124,7 @@ struct PilotInputs {
   std::size_t pilot_rows;
   const double* known;
   std::size_t min_size;  ///< samples of the shortest record
+  double omega_dt;       ///< the data's ω̂Δt (vehs/core/dominant_frequency.hpp)
 
   bool too_short(int k) const { return min_size < 4 * static_cast<std::size_t>(k) + kMinRecordSamples; }
   Pilot run(int k, Target target, bool central = true) const {
@@ -149,6 +157,24 @@ Pilot noisy_stride_pilot(const PilotInputs& in, Pilot pilot, double goal) {
     if (next != pilot.k) pilot = in.run(next, Target::Noisy);
   }
   return pilot;
+}
+
+/// The stride at which the sampling rule can read the data: when the reading at the start
+/// stride is unexplained (sampling_unexplained, core/fit_info.hpp), the stride doubles until a
+/// reading explains the data; the start pilot when none does before the records run short.
+/// Integer ADC counts at 10 kHz (a Duffing at ω·Δt 0.004, 90 % of consecutive samples equal):
+/// lag-1 autocorrelation −0.50 at stride 1; at stride 4 white noise's signature (ρ_k −0.66,
+/// ρ_2k +0.17): the quantisation error is a staircase correlated over a few samples, white on
+/// longer strides, and the noisy estimator's stride search goes on from there.
+Pilot explained_stride_pilot(const PilotInputs& in, const Pilot& start) {
+  auto unexplained = [&](const Pilot& pl) {
+    const SamplingRule rule = sampling_rule(pl.rho_k, pl.rho_2k, pl.rho_3k, pl.rows);
+    return sampling_unexplained(rule.verdict, pl.rho_k, pl.rho_3k, in.omega_dt * pl.k);
+  };
+  Pilot pilot = start;
+  int guard = 0;
+  while (unexplained(pilot) && !in.too_short(2 * pilot.k) && guard++ < 20) pilot = in.run(2 * pilot.k, Target::Uli);
+  return unexplained(pilot) || in.omega_dt * pilot.k >= 0.2 ? start : pilot;
 }
 
 // ----------------------------------------------------------------------- the diffusion pass
@@ -260,7 +286,8 @@ SamplingStage sampling_stage(const PilotInputs& in, const Options& options) {
                 std::to_string(in.min_size) + " samples, " +
                 std::to_string(4 * k + static_cast<int>(kMinRecordSamples)) + " needed)");
   st.diag = in.run(k, options.estimator == Estimator::Noisy ? Target::Noisy : Target::Uli);
-  st.decision = choose_estimator(st.diag, options.estimator);
+  if (options.estimator == Estimator::Auto && options.stride == 0) st.diag = explained_stride_pilot(in, st.diag);
+  st.decision = choose_estimator(st.diag, options.estimator, in.omega_dt * st.diag.k);
   const Estimator est = st.decision.estimator;
   const Target target = target_of(est);
   const bool central = uses_central_kinematics(est);
@@ -404,7 +431,7 @@ Result identify_terms(const Dataset& data, const Options& options) {
   lap("validate");
 
   const double dt = data.common_dt();
-  const SamplingStage sampling = sampling_stage({data, dict, dt, options.pilot_samples, known, shortest_record(data)}, options);
+  const SamplingStage sampling = sampling_stage({data, dict, dt, options.pilot_samples, known, shortest_record(data), dominant_omega_dt(data)}, options);
   lap("pilot");
   const Pilot& pilot = sampling.pilot;
   const Pilot& diag = sampling.diag;

@@ -80,6 +80,10 @@ class CsvParser {
     if (static_cast<int>(fields_.size()) <= need_)
       throw Error(path_ + ": line " + std::to_string(line_no_) + ": has " + std::to_string(fields_.size()) +
                   " fields, expected " + std::to_string(ncols_));
+    for (std::size_t i = static_cast<std::size_t>(ncols_); i < fields_.size(); ++i)  // empty trailing fields are fine
+      if (!trim(fields_[i]).empty())
+        throw Error(path_ + ": line " + std::to_string(line_no_) + ": has " + std::to_string(fields_.size()) +
+                    " fields, the header " + std::to_string(ncols_) + " (a shifted or merged row?)");
     Row r;
     r.line = line_no_;
     if (idx_.traj >= 0) {

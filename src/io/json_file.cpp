@@ -6,6 +6,9 @@
 
 #include <cerrno>
 #include <cstring>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "vehs/core/error.hpp"
 #include "vehs/io/output_transaction.hpp"
@@ -86,8 +89,30 @@ void check_json_text(const std::string& text, const std::string& where) {
 
 nlohmann::json parse_json_text(const std::string& text, const std::string& where) {
   check_json_text(text, where);
+  // a key given twice in one object is an error (nlohmann keeps the last silently: a hand-edited
+  // model with "x" twice, a config with two "output"s); the path names where
+  std::vector<std::set<std::string>> keys;
+  std::vector<std::string> path;
+  const nlohmann::json::parser_callback_t no_duplicates = [&](int, nlohmann::json::parse_event_t event,
+                                                              nlohmann::json& parsed) {
+    using E = nlohmann::json::parse_event_t;
+    if (event == E::object_start) keys.emplace_back(), path.emplace_back();
+    if (event == E::object_end && !keys.empty()) keys.pop_back(), path.pop_back();
+    if (event == E::key && !keys.empty()) {
+      const std::string k = parsed.get<std::string>();
+      if (!keys.back().insert(k).second) {
+        std::string at;
+        for (std::size_t i = 0; i + 1 < path.size(); ++i)
+          if (!path[i].empty()) at += (at.empty() ? "" : ".") + path[i];
+        throw Error(where + ": key \"" + k + "\" appears twice in " + (at.empty() ? "the top-level object" : "'" + at + "'") +
+                    " (each key may appear once)");
+      }
+      path.back() = k;
+    }
+    return true;
+  };
   try {
-    return nlohmann::json::parse(text);  // strict: anything but whitespace after the value is an error
+    return nlohmann::json::parse(text, no_duplicates);  // strict: anything but whitespace after the value is an error
   } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for a number like 1e400
     const std::string message = e.what();  // "[json.exception.parse_error.101] parse error at line 3, ..."
     const std::size_t bracket = message.find("] ");

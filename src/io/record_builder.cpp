@@ -27,6 +27,7 @@ bool RecordBuilder::id_changed(const Row& r) const { return c_.traj && any_id_ &
 
 void RecordBuilder::row(const Row& r) {
   if (id_changed(r)) {
+    prev_gap_step_ = 0.0;
     close(false);
     in_missing_run_ = false;
     after_split_ = false;
@@ -54,6 +55,12 @@ void RecordBuilder::row(const Row& r) {
       ref_dt_ = o_.dt > 0.0 ? o_.dt : step;
     }
     if (step > kGapSteps * ref_dt_) {
+      // two "gaps" of one size in a row: the data are sampled at another interval from here
+      // (a record at 2 ms after records at 1 ms would otherwise be cut into single samples and dropped)
+      if (prev_gap_step_ > 0.0 && std::abs(step - prev_gap_step_) <= o_.jitter_tolerance * step)
+        throw Error(where(r.line) + ": the sampling interval changes from " + fmt(ref_dt_) + " to " + fmt(step) +
+                    " (all records must share one sampling interval: resample, or fit the parts separately)");
+      prev_gap_step_ = step;
       if (o_.on_gap == GapPolicy::Fail)
         throw Error(where(r.line) + ": a gap in the time column: step " + fmt(step) + " after " +
                     fmt(last_t_) + " is " + fmt(step / ref_dt_) +
@@ -63,6 +70,8 @@ void RecordBuilder::row(const Row& r) {
         first_problem_ = std::string(line_word_) + " " + std::to_string(r.line) + ": a gap of " + fmt(step / ref_dt_) +
                          " sampling intervals";
       close(true);
+    } else {
+      prev_gap_step_ = 0.0;
     }
   }
   if (!open_) start(r);

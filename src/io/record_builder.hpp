@@ -52,6 +52,7 @@ class RecordBuilder {
   long long last_id_ = 0;
   bool any_id_ = false;
   double last_t_ = 0.0, ref_dt_ = 0.0;
+  double prev_gap_step_ = 0.0;  ///< the previous step when it was a gap (0: it was not)
   double min_step_ = 0.0, max_step_ = 0.0;
   std::size_t min_line_ = 0, max_line_ = 0;
   std::set<long long> seen_;

@@ -17,6 +17,7 @@
 #include "vehs/likelihood/detail/domain.hpp"
 #include "vehs/likelihood/detail/evaluator.hpp"
 #include "vehs/likelihood/detail/hidden_state_starts.hpp"
+#include "vehs/likelihood/detail/measurement_noise_start.hpp"
 #include "vehs/likelihood/detail/phase_scan.hpp"
 #include "vehs/likelihood/detail/record_phase_bias.hpp"
 #include "vehs/likelihood/detail/selection.hpp"
@@ -405,6 +406,8 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
   }
   repair_start(first, data, options.filter);
   if (options.per_record_phase) detail::scan_record_phases(first, data, options.filter, choice);
+  if (options.estimate_measurement_noise && !(start.measurement_sd > 0.0) && !(options.measurement_sd_start > 0.0))
+    first.measurement_sd = detail::measurement_sd_start(first, data, options.filter, options.per_record_phase);
   first = detail::best_hidden_state_start(first, data, options, choice);
   Result res = options.select ? detail::select_support(first, data, options, choice)
                               : detail::fit_support(first, data, options, choice, true);

@@ -77,6 +77,20 @@ std::string owner_of(const nlohmann::json& stats, const std::string& path, const
               (models.size() > 1 ? " (and than the truth and reported models)" : ""));
 }
 
+/// The model files' `units` sections must agree where both state them: the coefficients of a
+/// model in m and one in mm differ by powers of 1000 (a new user's comparison printed k3 off by
+/// +99 386 066 % with exit 0).
+void require_same_units(const std::string& a, const std::string& b) {
+  const nlohmann::json ja = read_json_file(a, "model file"), jb = read_json_file(b, "model file");
+  const nlohmann::json ua = ja.is_object() ? ja.value("units", nlohmann::json::object()) : nlohmann::json::object();
+  const nlohmann::json ub = jb.is_object() ? jb.value("units", nlohmann::json::object()) : nlohmann::json::object();
+  if (!ua.is_object() || !ub.is_object()) return;
+  for (const auto& [key, value] : ua.items())
+    if (ub.contains(key) && ub[key] != value)
+      throw Error(a + " states units." + key + " = " + value.dump() + " but " + b + " states " + ub[key].dump() +
+                  ": compare models fitted in the same units (refit one with the other's data units)");
+}
+
 }  // namespace
 
 const ConfigSchema& compare_schema() {
@@ -95,6 +109,8 @@ int run_compare(Config& c, const AppOptions&) {
   std::optional<Model> truth, reported;
   if (c.has("truth")) truth = checked_model("truth");
   if (c.has("reported")) reported = checked_model("reported");
+  for (const char* other : {"truth", "reported"})
+    if (c.has(other)) require_same_units(c.string("learned"), c.string(other));
   const std::string rlabel = c.string_or("reported_label", "paper");
 
   // union of parameter names, in the learned model's order, then the others

@@ -5,6 +5,7 @@
 
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/core/flat_stretches.hpp"
 #include "vehs/core/glitches.hpp"
 
 namespace vehs::tools {
@@ -19,10 +20,42 @@ KeySpec glitches_key_spec() {
           "\"error\""};
 }
 
-Dataset checked_measurements(const Config& c, Dataset data) {
-  const std::string rule = c.string_or("glitches", "error");
+KeySpec flat_stretches_key_spec() {
+  return {"flat_stretches", "\"error\" | \"drop\" | \"keep\"",
+          "Flat stretches: runs of one exactly repeated value of x longer than the record's own repeats "
+          "explain (a dropout logged as 0 or as the last value, a stuck or saturated sensor; a run of L "
+          "samples when N p^(L-1) < 1e-9 and L >= 5, p the record's share of equal consecutive samples, "
+          "N its length): \"error\" stops naming their lines, \"drop\" cuts each record there (as for "
+          "glitches), \"keep\" fits them as data.",
+          "\"error\""};
+}
+
+namespace {
+
+std::string rule_of(const Config& c, const std::string& key) {
+  const std::string rule = c.string_or(key, "error");
   if (rule != "error" && rule != "drop" && rule != "keep")
-    c.fail("glitches", "must be \"error\", \"drop\" or \"keep\" (got \"" + rule + "\")");
+    c.fail(key, "must be \"error\", \"drop\" or \"keep\" (got \"" + rule + "\")");
+  return rule;
+}
+
+Dataset without_flat_stretches(const Config& c, Dataset data) {
+  const std::string rule = rule_of(c, "flat_stretches");
+  if (rule == "keep") return data;
+  const std::vector<FlatStretch> flat = find_flat_stretches(data);
+  if (flat.empty()) return data;
+  const std::string what = std::to_string(flat.size()) + " flat stretch" + (flat.size() > 1 ? "es" : "") +
+                           " (one value repeated): " + describe_flat_stretches(data, flat);
+  if (rule == "error")
+    throw Error(what + " (config 'flat_stretches': \"drop\" removes them, \"keep\" fits them)");
+  std::cerr << "warning: dropped " << what << "\n";  // changes the data: said even with --quiet
+  Dataset kept = drop_flat_stretches(data, flat);
+  if (kept.records.empty()) throw Error("no record is left after dropping " + what);
+  return kept;
+}
+
+Dataset without_glitches(const Config& c, Dataset data) {
+  const std::string rule = rule_of(c, "glitches");
   if (rule == "keep") return data;
   const std::vector<Glitch> glitches = find_glitches(data);
   if (glitches.empty()) return data;
@@ -34,6 +67,13 @@ Dataset checked_measurements(const Config& c, Dataset data) {
   Dataset kept = drop_glitches(data, glitches);
   if (kept.records.empty()) throw Error("no record is left after dropping " + what);
   return kept;
+}
+
+}  // namespace
+
+Dataset checked_measurements(const Config& c, Dataset data) {
+  if (!data.records.empty()) (void)data.common_dt();  // in the files' own units, before any scaling
+  return without_glitches(c, without_flat_stretches(c, std::move(data)));
 }
 
 }  // namespace vehs::tools

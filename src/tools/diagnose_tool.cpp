@@ -267,7 +267,15 @@ int run_diagnose(Config& c, const AppOptions& app) {
   nlohmann::ordered_json units = units_block(c);
   if (units.empty() && model_file_content.sections.contains("units")) units = model_file_content.sections["units"];
 
-  const diagnose::Result r = diagnose::diagnose(model, data, o);
+  const diagnose::Result r = [&] {
+    try {
+      return diagnose::diagnose(model, data, o);
+    } catch (const Error& e) {  // a model the simulator refuses: name its file (the one line of the error)
+      const std::string what = e.what();
+      if (what.rfind("simulating the model's twins", 0) == 0) throw Error(model_file + ": " + what);
+      throw;
+    }
+  }();
 
   // history, report, JSON
   const auto entries = append_history(history_path, history_entry(model, model_file, label, data, r, model_file_content.sections));

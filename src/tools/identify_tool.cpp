@@ -11,6 +11,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "vehs/core/dominant_frequency.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/core/parameters.hpp"
 #include "tools/data_checks.hpp"
@@ -453,6 +454,12 @@ int run_identify(Config& c, const AppOptions& app) {
     sections["figure"] = figure;
   }
   write_model_file(output, r.model, sections);
+  if (const SamplingDiagnosis& s = r.model.fit->sampling;
+      sampling_unexplained(s.verdict, s.rho_k, s.rho_3k, dominant_omega_dt(data) * s.stride))
+    std::cerr << "warning: " << output << ": the sampling diagnosis cannot explain the data (ULI residuals' lag-k "
+              << "autocorrelation " << g(s.rho_k) << " at stride " << s.stride << ", neither about 0 nor about +1/4 "
+              << "at any stride): quantised values, dropouts, stuck or clipped stretches? the estimates may be "
+              << "biased beyond their standard errors\n";
   if (!app.quiet) {
     std::printf("estimator: %s (stride %d; %s)\n", enum_to_string(kEstimatorNames, r.model.fit->estimator).c_str(),
                 r.model.fit->stride, r.report.estimator.reason.c_str());

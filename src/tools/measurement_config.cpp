@@ -44,6 +44,7 @@ std::vector<KeySpec> measurement_keys() {
        "(b2 in length/time^2, a22 in length^2/time^3).",
        "{} (non-dimensional)"},
       glitches_key_spec(),
+      flat_stretches_key_spec(),
   };
 }
 
@@ -85,7 +86,7 @@ LoadedData load_measurements(const Config& c, bool need_u, const AppOptions& app
   if (files.empty()) c.fail("data", "lists no file");
   LoadedData l;
   l.data = checked_measurements(c, read_measurements(files, read_options(c, need_u), &l.summary));
-  if (!app.quiet)
+  if (!app.quiet || l.summary.dropped_samples > 0)  // samples left out: said even with --quiet
     for (const auto& w : l.summary.warnings) std::cerr << "warning: " << w << "\n";
   l.detrend = c.string_or("detrend", "none");
   if (l.detrend == "mean")

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include "tools/statistics_file.hpp"
@@ -71,7 +72,8 @@ const ConfigSchema& simulate_schema() {
            "", true},
           {"output", "path",
            "Measurement file to write (columns traj, t, x[, y][, u]); .npy writes NumPy binary, "
-           "anything else CSV. Optional when 'statistics' is given.",
+           "anything else CSV (a .mat, .npz, .h5, .hdf5, .xlsx, .xls or .parquet name is refused). "
+           "Optional when 'statistics' is given.",
            "", true},
           {"statistics", "object",
            "Monte Carlo statistics, accumulated while simulating (no records kept unless 'output' "
@@ -275,6 +277,9 @@ SimulateJob simulate_job_from_config(const Config& c, const std::vector<std::vec
   if (c.has("output")) {
     job.output = c.string("output");
     if (job.output.empty()) c.fail("output", "must be a file path");
+    for (const char* binary : {".mat", ".npz", ".h5", ".hdf5", ".xlsx", ".xls", ".parquet"})  // CSV text under a binary name
+      if (std::filesystem::path(job.output).extension() == binary)
+        c.fail("output", "'" + job.output + "' names a " + binary + " file, which simulate-vehs does not write (.npy: NumPy binary; any other name: CSV)");
   }
   if (c.has("statistics")) {
     const Config s = c.object("statistics", {"output", "discard", "grid", "px", "py", "pxy", "batches"});

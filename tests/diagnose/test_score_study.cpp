@@ -18,7 +18,8 @@
 // VEHS_SCORE_ORACLE=0: no oracle refit (its z printed as 0; impact_stop's costs 50–70 s a seed).
 // VEHS_SCORE_COARSE=1: the coarse shape (score_fixtures.hpp: coarse(); Δt 0.35, 2 % sensor
 // noise, likelihood-fitted baseline), power only (the loop refits by moments).
-// VEHS_SCORE_LOOP_LIKELIHOOD=1: the loop's refit refined by the likelihood (loop_refit).
+// VEHS_SCORE_LOOP_LIKELIHOOD=1: the loop's refit refined by the likelihood, =0: never (the moment
+// fit); unset: as identify-vehs's estimator "auto" decides (likelihood/adequacy.hpp; loop_refit).
 // The per-record forcing's loop refits by the likelihood with a phase per record (as diagnose
 // recommends); VEHS_SCORE_PR_START=suspect starts it from the score suspect's amplitude and ω.
 // VEHS_SCORE_NULL=1: the case's data WITHOUT its hidden effect (the baseline alone), the oracle
@@ -40,6 +41,7 @@
 #include "vehs/diagnose/diagnose.hpp"
 #include "vehs/diagnose/score_suspects.hpp"
 #include "vehs/identify/identify.hpp"
+#include "vehs/likelihood/adequacy.hpp"
 #include "vehs/likelihood/record_phase_start.hpp"
 #include "vehs/likelihood/refine.hpp"
 
@@ -78,6 +80,11 @@ Fitted effect_fit(const Model& truth, const Model& refit, const Effect& added) {
     if (!t || !e) return f;
     f.truth = t->params, f.value = e->params, f.stderr_ = e->stderr_;
   }
+  // the linear damping too: a hidden state's moment fit biases it (bench_hidden_state_bias)
+  if (f.truth.empty() || !refit.drift_stderr.count("y")) return f;
+  f.truth["beta"] = -truth.drift_coef("y");
+  f.value["beta"] = -refit.drift_coef("y");
+  f.stderr_["beta"] = refit.drift_stderr.at("y");
   return f;
 }
 
@@ -90,11 +97,12 @@ diagnose::Options loop_options(std::uint64_t seed) {
 }
 
 /// The loop's refit: identify's moment fit with the named effect, refined by the likelihood
-/// (every parameter free, the support kept) when VEHS_SCORE_LOOP_LIKELIHOOD=1 — as identify-vehs
-/// does with "likelihood" requested.
+/// (every parameter free, the support kept) as identify-vehs's estimator "auto" decides
+/// (likelihood::assess_sampling), or always / never with VEHS_SCORE_LOOP_LIKELIHOOD=1 / 0.
 Model loop_refit(const Dataset& d, const identify::Options& io) {
   Model refit = identify::identify(d, io).model;
-  if (env_int("VEHS_SCORE_LOOP_LIKELIHOOD", 0) == 0) return refit;
+  const int forced = env_int("VEHS_SCORE_LOOP_LIKELIHOOD", -1);
+  if (forced == 0 || (forced < 0 && likelihood::assess_sampling(refit, d).vouched)) return refit;
   const likelihood::Result r = likelihood::refine({refit, 0.0, {}}, d, likelihood::RefineOptions{});
   FitInfo fit = refit.fit ? *refit.fit : FitInfo{};
   fit.likelihood = LikelihoodFit{};

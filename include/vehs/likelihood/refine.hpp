@@ -70,7 +70,8 @@ inline constexpr EnumNames<SelectionCriterion, 2> kSelectionCriterionNames{
 struct RefineOptions {
   FilterOptions filter;
   /// Estimate the measurement noise (log scale). Its start is the start model's measurement_sd,
-  /// or `measurement_sd_start` when that is 0, or 1 % of std(x) when both are 0.
+  /// or `measurement_sd_start` when that is 0, or, when both are 0, the best by log-likelihood
+  /// of 3 % … 0.01 % of std(x) (detail/measurement_noise_start.hpp).
   bool estimate_measurement_noise = true;
   double measurement_sd_start = 0.0;
   /// One harmonic_forcing phase per record (the start's record_phases, else scanned); the shared

@@ -207,6 +207,8 @@ def cases():
         "data no x column": "traj,t,y\n0,0,1\n0,0.01,2\n",
         "data binary garbage": "\x00\x01\x02\xff" * 100,
         "data missing field": "traj,t,x\n0,0.0,0.1\n0,0.01\n0,0.02,0.2\n",
+        "data extra field": csv_text([(0, 0.01 * i, 0.1 * ((i * 7) % 13 - 6)) for i in range(30)]).replace(
+            "\n0,0.1,", "\n0,0.1,7,", 1),
         "data npy garbage": "\x93NUMPY\x01\x00\xff\xff{'descr': '<f8', 'fortran_order': False, 'shape': (99999999999,), }",
     }
     for t in ("identify-vehs", "diagnose-vehs"):
@@ -224,6 +226,14 @@ def cases():
                  setup=lambda d: make_bom(d, "data.csv", "bom.csv")))
         add(Case("glitch sample", t, with_(t, data=["glitch.csv"]), mentions=["glitch.csv"],
                  setup=lambda d: make_glitch(d, "data.csv", "glitch.csv")))
+        add(Case("a dropout logged as 0 (a flat stretch)", t, with_(t, data=["dropout.csv"]), mentions=["dropout.csv"],
+                 setup=lambda d: make_dropout(d, "data.csv", "dropout.csv")))
+        add(Case("a record sampled at another interval in the same file", t, with_(t, data=["mixed.csv"]),
+                 mentions=["mixed.csv"], files={"mixed.csv": csv_text(
+                     [(0, 0.01 * i, 0.1 * ((i * 7) % 13 - 6)) for i in range(40)] +
+                     [(1, 0.02 * i, 0.1 * ((i * 5) % 11 - 5)) for i in range(40)])}))
+        add(Case("config key given twice", t, raw=json.dumps(BASE[t])[:-1] + ', "output": "other.json"}',
+                 mentions=["output"]))
 
     # ---- values that would be ignored, contradicted or out of range -------------------------
     add(Case("keep_terms outside the library", "identify-vehs", with_("identify-vehs", keep_terms=["x^20"]),
@@ -268,6 +278,16 @@ def cases():
         add(Case("duration 1e12", t, with_(t, duration=1e12), mentions=["duration", "memory", "samples"]))
         add(Case("dt 0", t, with_(t, dt=0), mentions=["dt"]))
         add(Case("dt negative", t, with_(t, dt=-0.01), mentions=["dt"]))
+    add(Case("simulate: a .mat output name (CSV text under a binary name)", "simulate-vehs",
+             with_("simulate-vehs", output="sim.mat"), mentions=["output"]))
+    add(Case("model file with a term given twice", "fpk-stationary", with_("fpk-stationary", model="dupterm.json"),
+             files={"dupterm.json": '{"drift": {"x": -1.0, "x": -4.0, "x^3": -1.0, "y": -0.1}, "diffusion": {"1": 0.02}}'},
+             mentions=["dupterm.json"]))
+    add(Case("compare: models in different units", "vehs-compare",
+             with_("vehs-compare", learned="in_m.json", truth="in_mm.json"),
+             files={"in_m.json": json.dumps(dict(MODEL, units={"length": "m", "time": "s"})),
+                    "in_mm.json": json.dumps(dict(MODEL, units={"length": "mm", "time": "s"}))},
+             mentions=["in_m.json", "in_mm.json"]))
     add(Case("simulate: output = drive file", "simulate-vehs",
              with_("simulate-vehs", model="model_u.json", drive={"path": "drive.csv"}, output="drive.csv"),
              files={"model_u.json": json.dumps({"drift": {"x": -1.0, "y": -0.1, "u": 1.0}, "diffusion": {"1": 0.01}}),
@@ -351,6 +371,18 @@ def make_bom(d, src, dst):
         text = f.read()
     with open(os.path.join(d, dst), "w", encoding="utf-8") as f:
         f.write("\ufeff" + text)
+
+
+def make_dropout(d, src, dst):
+    with open(os.path.join(d, src)) as f:
+        lines = f.read().splitlines()
+    k = len(lines) // 3 + 500  # 30 samples inside a record written as 0 (how loggers write a dropout)
+    for i in range(k, k + 30):
+        parts = lines[i].split(",")
+        parts[-1] = "0"
+        lines[i] = ",".join(parts)
+    with open(os.path.join(d, dst), "w") as f:
+        f.write("\n".join(lines) + "\n")
 
 
 def make_glitch(d, src, dst):

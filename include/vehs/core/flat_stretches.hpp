@@ -1,0 +1,43 @@
+#pragma once
+// Flat stretches: runs of exactly repeated values of x in a record, longer than the record's own
+// repeats explain. Loggers write a dropout as 0 or as the last good value, a stuck sensor repeats
+// its reading, a saturated one its limit; a continuous signal sampled with a fine ADC almost
+// never repeats a value. One such stretch can dominate the moment estimates (50 zeros in one of
+// 50 records of a Duffing in mm: β 51 against 5 and no diffusion term; 20 stuck samples in a
+// record of 30 000: 2D −32 %, 10 SE), so the tools look for them before fitting.
+//
+// Rule, per record of N samples: p = the share of consecutive pairs that are equal (at least
+// 1/N). If repeats were independent with that probability, a run of L equal values would occur
+// somewhere in the record with probability about N·p^(L−1); a run is flagged when that is below
+// 1e-9 and L ≥ 5. Quantised data with many repeats (integer ADC counts at a fast rate:
+// p ≈ 0.9) raise the bar accordingly (runs of several hundred samples); Silverbox (p 3e-5,
+// longest run 2) and float data have none.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "vehs/core/dataset.hpp"
+
+namespace vehs {
+
+struct FlatStretch {
+  std::size_t record = 0;  ///< index in Dataset::records
+  std::size_t sample = 0;  ///< index of its first sample within the record
+  std::size_t length = 0;  ///< samples
+  std::size_t line = 0;    ///< line of its first sample in the file (record.first_line + sample)
+  double x = 0.0;          ///< the repeated value
+};
+
+/// The flat stretches of every record (ascending record, sample).
+std::vector<FlatStretch> find_flat_stretches(const Dataset& data);
+
+/// "data.csv: lines 2001-2050 (50 samples of x = 0)[, ...]": up to `max_listed` named.
+std::string describe_flat_stretches(const Dataset& data, const std::vector<FlatStretch>& stretches,
+                                    std::size_t max_listed = 5);
+
+/// A copy of `data` without the stretches' samples: each record cut there into the pieces
+/// between them (as drop_glitches), pieces shorter than `min_samples` left out.
+Dataset drop_flat_stretches(const Dataset& data, const std::vector<FlatStretch>& stretches,
+                            std::size_t min_samples = 16);
+
+}  // namespace vehs

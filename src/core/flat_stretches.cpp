@@ -1,0 +1,69 @@
+#include "vehs/core/flat_stretches.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "vehs/core/drop_samples.hpp"
+
+namespace vehs {
+
+namespace {
+
+constexpr std::size_t kMinRun = 5;
+constexpr double kFalseAlarm = 1e-9;  ///< per record, under independent repeats
+
+/// The shortest run flagged in a record of n samples with `equal` equal consecutive pairs.
+std::size_t flagged_run(std::size_t n, std::size_t equal) {
+  const double N = static_cast<double>(n);
+  const double p = std::clamp(static_cast<double>(equal) / std::max(N - 1.0, 1.0), 1.0 / N, 1.0 - 1e-12);
+  const double L = 1.0 + std::log(kFalseAlarm / N) / std::log(p);  // N p^(L−1) = kFalseAlarm
+  return std::max(kMinRun, static_cast<std::size_t>(std::ceil(L)));
+}
+
+}  // namespace
+
+std::vector<FlatStretch> find_flat_stretches(const Dataset& data) {
+  std::vector<FlatStretch> out;
+  for (std::size_t k = 0; k < data.records.size(); ++k) {
+    const Record& rec = data.records[k];
+    if (rec.size < kMinRun) continue;
+    const double* x = data.x_of(rec);
+    std::size_t equal = 0;
+    for (std::size_t i = 1; i < rec.size; ++i) equal += x[i] == x[i - 1];
+    if (equal + 1 < kMinRun) continue;
+    const std::size_t bar = flagged_run(rec.size, equal);
+    for (std::size_t i = 0; i < rec.size;) {
+      std::size_t j = i + 1;
+      while (j < rec.size && x[j] == x[i]) ++j;
+      if (j - i >= bar) out.push_back({k, i, j - i, rec.first_line + i, x[i]});
+      i = j;
+    }
+  }
+  return out;
+}
+
+std::string describe_flat_stretches(const Dataset& data, const std::vector<FlatStretch>& stretches,
+                                    std::size_t max_listed) {
+  std::string s;
+  for (std::size_t g = 0; g < stretches.size() && g < max_listed; ++g) {
+    const FlatStretch& f = stretches[g];
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "lines %zu-%zu (%zu samples of x = %.6g)", f.line, f.line + f.length - 1, f.length,
+                  f.x);
+    const std::string& source = data.records[f.record].source;
+    s += (g == 0 ? "" : ", ") +
+         (g == 0 || source != data.records[stretches[g - 1].record].source ? source + ": " : "") + buf;
+  }
+  if (stretches.size() > max_listed) s += " and " + std::to_string(stretches.size() - max_listed) + " more";
+  return s;
+}
+
+Dataset drop_flat_stretches(const Dataset& data, const std::vector<FlatStretch>& stretches, std::size_t min_samples) {
+  std::vector<SampleRef> removed;
+  for (const FlatStretch& f : stretches)
+    for (std::size_t i = 0; i < f.length; ++i) removed.push_back({f.record, f.sample + i});
+  return drop_samples(data, removed, min_samples);
+}
+
+}  // namespace vehs

@@ -1,0 +1,63 @@
+// Flat stretches (vehs/core/flat_stretches.hpp): a dropout logged as 0 and a stuck sensor found
+// at their lines; none on clean float records or on integer counts sampled fast (quantised data
+// repeat values all the time); dropped by cutting the record.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "oscillator_records.hpp"
+#include "vehs/core/flat_stretches.hpp"
+
+using core_test::oscillator;
+
+TEST_CASE("a dropout logged as 0 and a stuck reading are found at their lines", "[core][flat_stretches][asan]") {
+  vehs::Dataset d = oscillator(4000, 21, 3);
+  const vehs::Record& r1 = d.records[1];
+  for (std::size_t i = 2000; i < 2050; ++i) d.x[r1.offset + i] = 0.0;  // 50 samples of 0
+  const vehs::Record& r2 = d.records[2];
+  for (std::size_t i = 901; i < 921; ++i) d.x[r2.offset + i] = d.x[r2.offset + 900];  // stuck for 20 more
+  const auto f = vehs::find_flat_stretches(d);
+  REQUIRE(f.size() == 2);
+  CHECK(f[0].record == 1);
+  CHECK(f[0].sample == 2000);
+  CHECK(f[0].length == 50);
+  CHECK(f[0].line == r1.first_line + 2000);
+  CHECK(f[0].x == 0.0);
+  CHECK(f[1].record == 2);
+  CHECK(f[1].sample == 900);
+  CHECK(f[1].length == 21);
+  const std::string text = vehs::describe_flat_stretches(d, f);
+  CHECK(text.find("clean.csv: lines " + std::to_string(r1.first_line + 2000) + "-" +
+                  std::to_string(r1.first_line + 2049) + " (50 samples of x = 0)") == 0);
+}
+
+TEST_CASE("clean float records and fast integer counts have no flat stretches", "[core][flat_stretches]") {
+  // floats: an exact repeat of a double needs a zero increment (no run of 5 in 10 x 20 000
+  // samples); counts: round(100 x) at dt 0.001 repeats ~90 % of consecutive samples, runs at the
+  // turning points last up to ~100 samples and the bar is ~290 (N p^(L-1) = 1e-9).
+  for (std::uint32_t seed = 1; seed <= 10; ++seed) CHECK(vehs::find_flat_stretches(oscillator(20000, seed)).empty());
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    vehs::Dataset d = oscillator(20000, seed, 1, 0.001);
+    std::size_t equal = 0;
+    for (double& x : d.x) x = std::round(100.0 * x);
+    for (std::size_t i = 1; i < d.x.size(); ++i) equal += d.x[i] == d.x[i - 1];
+    INFO("share of equal consecutive counts " << double(equal) / double(d.x.size() - 1));
+    CHECK(double(equal) / double(d.x.size() - 1) > 0.7);
+    CHECK(vehs::find_flat_stretches(d).empty());
+  }
+}
+
+TEST_CASE("drop_flat_stretches cuts the record around each stretch", "[core][flat_stretches][asan]") {
+  vehs::Dataset d = oscillator(1000, 5);
+  for (std::size_t i = 300; i < 310; ++i) d.x[i] = 0.0;
+  const auto f = vehs::find_flat_stretches(d);
+  REQUIRE(f.size() == 1);
+  const vehs::Dataset kept = vehs::drop_flat_stretches(d, f, 16);
+  REQUIRE(kept.records.size() == 2);  // [0, 300) and [310, 1000)
+  CHECK(kept.records[0].size == 300);
+  CHECK(kept.records[1].size == 690);
+  CHECK(kept.records[1].first_line == d.records[0].first_line + 310);
+  CHECK(kept.records[1].t0 == Approx(3.10));
+  CHECK(kept.x[300] == d.x[310]);
+  CHECK(vehs::find_flat_stretches(kept).empty());
+}

@@ -1,0 +1,72 @@
+// The rule of estimator "auto" (vehs/likelihood/adequacy.hpp) beyond ω̂Δt: white sensor noise at
+// the recorded rate, noise white only at a longer stride, and hidden states. Deterministic:
+// a slow cosine (ω̂Δt 0.05) and models whose fit info states what identify would have found.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "vehs/io/model_file.hpp"
+#include "vehs/likelihood/adequacy.hpp"
+
+using namespace vehs;
+
+namespace {
+
+Dataset slow_cosine(double dt) {
+  Dataset d;
+  Record r;
+  r.dt = dt;
+  r.size = 4000;
+  d.records.push_back(r);
+  for (std::size_t k = 0; k < r.size; ++k) d.x.push_back(std::cos(0.05 * double(k)));
+  return d;
+}
+
+/// A bistable fit with β's relative SE 2 % and the sampling diagnosis given.
+Model fit_with(SamplingVerdict verdict, int stride) {
+  Model m;
+  m.drift = {{Term::parse("x"), 1.0}, {Term::parse("x^3"), -1.0}, {Term::parse("y"), -0.1}};
+  m.diffusion = {{Term::parse("1"), 0.04}};
+  m.drift_stderr = {{"x", 0.02}, {"x^3", 0.02}, {"y", 0.002}};
+  FitInfo f;
+  f.sampling.verdict = verdict;
+  f.sampling.stride = stride;
+  f.sampling.noise_share = 0.9;
+  m.fit = f;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("auto: white sensor noise at the recorded rate sends the fit to the likelihood; noise "
+          "white only at a longer stride does not", "[likelihood][adequacy]") {
+  const Dataset d = slow_cosine(0.05);
+  const likelihood::SamplingAdequacy scheme = likelihood::assess_sampling(fit_with(SamplingVerdict::ContinuousTime, 1), d);
+  CHECK(scheme.vouched);
+  const likelihood::SamplingAdequacy noisy = likelihood::assess_sampling(fit_with(SamplingVerdict::Noisy, 1), d);
+  CHECK_FALSE(noisy.vouched);
+  CHECK(noisy.reason.find("white sensor noise") != std::string::npos);
+  const likelihood::SamplingAdequacy quantised = likelihood::assess_sampling(fit_with(SamplingVerdict::Noisy, 2), d);
+  CHECK(quantised.vouched);
+}
+
+TEST_CASE("auto: a hidden state's moment fit stands only while 2·rate·Δt is below the best "
+          "relative SE", "[likelihood][adequacy]") {
+  const Dataset d = slow_cosine(0.05);
+  for (const char* effect : {R"({"name": "electromechanical_coupling", "params": {"lambda": 0.8, "coupling": 0.5}})",
+                             R"({"name": "colored_noise", "params": {"tau": 0.6, "intensity": 0.04}})"}) {
+    Model m = fit_with(SamplingVerdict::ContinuousTime, 1);
+    const Model with = model_from_json(
+        nlohmann::json::parse(std::string(R"({"drift": {"x": 1}, "diffusion": {"1": 0.04}, "effects": [)") + effect + "]}"),
+        "effect");
+    m.effects = with.effects;
+    INFO(effect);
+    // rate·Δt 0.04 (λ 0.8) or 0.083 (τ 0.6): 2·rate·Δt far above the best relative SE 0.02
+    const likelihood::SamplingAdequacy a = likelihood::assess_sampling(m, d);
+    CHECK_FALSE(a.vouched);
+    CHECK(a.reason.find("hidden state") != std::string::npos);
+    // the same at Δt 0.001 (2·rate·Δt 0.0016–0.0033 < 0.02): the moment fit stands
+    CHECK(likelihood::assess_sampling(m, slow_cosine(0.001)).vouched);
+  }
+  CHECK(likelihood::hidden_state_rate_dt(fit_with(SamplingVerdict::ContinuousTime, 1), 0.05) == 0.0);
+}
