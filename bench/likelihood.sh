@@ -7,7 +7,8 @@
 # model at omega_max*dt 1.0 and 0.5, without and with 2 % sensor noise), each its own results
 # file and part; `long` re-runs the omega*dt 1.0 cases with 4x the records (long_paper,
 # long_bistable): the per-parameter bias over the seeds when the SEs are well under 5 %;
-# `effects_harmonic` is the per-record-phase harmonic forcing row of `effects` alone.
+# `effects_harmonic` is the per-record-phase harmonic forcing row of `effects` alone, `effects_colored` the
+# colored_noise row (re-measured after the hidden states' block-start law, hidden_prior.hpp).
 # The filter's bias with sensor noise (the paper's model, 2Q): `score` (the filter's score at the
 # truth over 40 seeds: its mean is 0 for the exact likelihood; variants separate substeps,
 # block-start priors and the generator), `innovations` (standardised innovations at the truth
@@ -112,6 +113,7 @@ for ((i = 0; i < ${#parts[@]}; ++i)); do
     driven) run driven "$bench" driven "${SEEDS:-20}" ;;
     effects) run effects "$bench" effects "${SEEDS:-20}" ;;
     effects_harmonic) run effects_harmonic "$bench" effects "${SEEDS:-20}" 0 harmonic_forcing ;;
+    effects_colored) run effects_colored "$bench" effects "${SEEDS:-20}" 0 colored_noise ;;
     speed) run speed "$bench" speed ;;
     gaussian) run gaussian "$bench" gaussian ;;
     *) echo "likelihood.sh: unknown part '$p'" >&2; exit 2 ;;

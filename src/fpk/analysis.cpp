@@ -263,7 +263,14 @@ StationaryResult solve_on(const FpkModel& model, const GridRequest& request, Gri
   const int max_enlargements = 6;
   double previous = -1.0;
   for (int attempt = 0;; ++attempt) {
-    StationaryResult res = solve_stationary(model, grid, options);
+    StationaryResult res;
+    try {
+      res = solve_stationary(model, grid, options);
+    } catch (const SolveBreakdown&) {
+      throw Unresolved{"the solution has no positive mass on " + std::to_string(grid.x.n) + "x" +
+                       std::to_string(grid.y.n) + " cells over x in [" + num(grid.x.min) + ", " + num(grid.x.max) +
+                       "], y in [" + num(grid.y.min) + ", " + num(grid.y.max) + "] (too few cells, or a domain that misses the density)"};
+    }
     res.auto_domain = request.auto_x || request.auto_y;
     res.domain_enlargements = attempt;
     if (!res.summary.converged)  // an unconverged iterate says nothing about the domain

@@ -246,8 +246,8 @@ void normalize(std::vector<double>& p, double area) {
   double s = 0.0;
   for (double v : p) s += v;
   s *= area;
-  require(std::isfinite(s) && s > 0.0,
-          "the FPK solution has no positive mass (the solve broke down; check the model and grid)");
+  if (!(std::isfinite(s) && s > 0.0))
+    throw SolveBreakdown("the FPK solution has no positive mass (the solve broke down; check the model and grid)");
   for (double& v : p) v /= s;
 }
 

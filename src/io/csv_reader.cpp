@@ -109,6 +109,11 @@ class CsvParser {
 
  private:
   void header(std::string_view text) {
+    if (text.substr(0, 2) == "\xFF\xFE" || text.substr(0, 2) == "\xFE\xFF" || text.find('\0') != text.npos)
+      throw Error(path_ + ": line " + std::to_string(line_no_) +
+                  ": UTF-16 text or binary data (save the file as UTF-8 text; .npy and .mat files are read by name)");
+    if (const std::size_t cr = text.find('\r'); cr != text.npos && cr + 1 < text.size())
+      throw Error(path_ + ": line ends are '\\r' alone (classic Mac OS): convert them to '\\n'");
     delimiter_ = detect_delimiter(text);
     split(text, delimiter_, fields_);
     std::vector<std::string> names;
@@ -206,8 +211,9 @@ ColumnIndex index_columns(const std::vector<std::string>& names, const ReadOptio
     if (n == o.traj_column) c.traj = k;
     if (o.read_u && n == o.u_column) c.u = k;
     if (o.read_y && n == o.y_column) c.y = k;
-    all += (all.empty() ? "" : ", ") + n;
+    if (all.size() < 200) all += (all.empty() ? "" : ", ") + n;  // the message stays one readable line
   }
+  if (all.size() >= 200) all = all.substr(0, 200) + " ...";
   if (c.x < 0) throw Error(path + ": no " + kind + " '" + o.x_column + "' (" + kind + "s: " + all + ")");
   if (c.t < 0 && !(o.dt > 0.0))
     throw Error(path + ": no time " + kind + " '" + o.t_column + "' (" + kind + "s: " + all +

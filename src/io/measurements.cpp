@@ -159,6 +159,13 @@ Dataset read_format(std::istream& in, const std::string& name, const ReadOptions
   return ends_with(name, ".npy") ? io_detail::read_npy(in, name, options, s) : io_detail::read_csv(in, name, options, s);
 }
 
+/// A binary format named by its extension that the readers do not take (nullptr: none).
+const char* unread_format(const std::string& path) {
+  for (const char* ext : {".npz", ".xlsx", ".xls", ".h5", ".hdf5", ".parquet", ".zip", ".gz", ".tdms"})
+    if (ends_with(path, ext)) return ext;
+  return nullptr;
+}
+
 Dataset read_one(const std::string& path, std::istream* in, const ReadOptions& options, ReadSummary& summary) {
   if (auto why = options.invalid_reason(); !why.empty()) throw Error(path + ": " + why);
   ReadSummary s;
@@ -167,6 +174,8 @@ Dataset read_one(const std::string& path, std::istream* in, const ReadOptions& o
     d = read_format(*in, path, options, s);
   } else if (ends_with(path, ".mat")) {
     d = io_detail::read_mat(path, options, s);
+  } else if (const char* other = unread_format(path)) {
+    throw Error(path + ": " + other + " files are not read (CSV text, NumPy .npy and MATLAB .mat are)");
   } else {
     std::ifstream file(path, std::ios::binary);
     if (!file) throw Error(path + ": cannot open measurement file");

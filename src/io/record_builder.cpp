@@ -152,8 +152,9 @@ void RecordBuilder::close(bool split) {
     // the mean of n − 1 steps, each within the tolerance, is that much closer to dt
     const double mean_tolerance = 2.0 * o_.jitter_tolerance / static_cast<double>(cur_.size - 1) + 1e-6;
     if (o_.dt > 0.0 && std::abs(mean - o_.dt) > mean_tolerance * o_.dt)
-      throw Error(source_ + ": " + line_word_ + " " + std::to_string(cur_.first_line) + ": the time column's mean interval " +
-                  fmt(mean) + " disagrees with the given dt " + fmt(o_.dt));
+      throw Error(source_ + ": the record starting at " + line_word_ + " " + std::to_string(cur_.first_line) +
+                  ": the time column's mean interval " + fmt(mean) + " disagrees with the given dt " + fmt(o_.dt) +
+                  " (each step may jitter by jitter_tolerance, their mean must match dt: remove dt to use the time column)");
     summary_.max_jitter = std::max(summary_.max_jitter, jitter);
     cur_.dt = dt;
   }

@@ -23,7 +23,8 @@ std::vector<KeySpec> measurement_keys() {
        "", true},
       {"dt", "number",
        "Sampling interval: used for files without a time column; with a time column the column is "
-       "only checked against it (within sampling.jitter_tolerance).",
+       "only checked against it (each step within sampling.jitter_tolerance, the mean of a record's steps within "
+       "that tolerance divided by its steps).",
        "", true},
       {"sampling", "object",
        "Time-column tolerances: {\"jitter_tolerance\": 0.15 (largest relative deviation of a time "

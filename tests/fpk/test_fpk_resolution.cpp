@@ -38,3 +38,19 @@ TEST_CASE("an under-resolved automatic grid is refined, or the error names the c
     CHECK_THAT(what, !Catch::Contains("heavy tails"));
   }
 }
+
+TEST_CASE("a grid of 5x5 cells, where the solve has no positive mass, is refined like any "
+          "under-resolved grid", "[fpk][resolution]") {
+  // a new user's {"grid": {"x": 5, "y": 5}} stopped with "the solve broke down" (25 Nov 2026)
+  const vehs::fpk::FpkModel fm(vehs::model_from_json(nlohmann::json::parse(R"({
+    "drift": {"x": 1.0, "x^3": -1.0, "y": -0.1}, "diffusion": {"1": 0.02}})"), "bistable"), "bistable");
+  vehs::fpk::GridRequest tiny;
+  tiny.grid.x.n = tiny.grid.y.n = 5;
+  const auto r = vehs::fpk::solve_with_domain(fm, tiny, vehs::fpk::SolveOptions{});
+  CHECK(r.refinements >= 1);
+  CHECK(r.grid.x.n == 5 << r.refinements);
+  vehs::fpk::DomainOptions no_refinement;
+  no_refinement.max_cells = 0;
+  CHECK_THROWS_WITH(vehs::fpk::solve_with_domain(fm, tiny, vehs::fpk::SolveOptions{}, no_refinement),
+                    Catch::Contains("does not resolve the model") && Catch::Contains("at least 10x10 cells"));
+}

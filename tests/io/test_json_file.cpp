@@ -103,3 +103,14 @@ TEST_CASE("json_excerpt never cuts a UTF-8 character (fuzz_json_config finding: 
     }
   }
 }
+
+TEST_CASE("a key given twice in one object is an error naming the key and where", "[io][json][asan]") {
+  // nlohmann keeps the last value silently: a hand-edited model with "x" twice ran with k = 4
+  CHECK(message_of(R"({"drift": {"x": -1, "x": -4}, "diffusion": {"1": 0.02}})") ==
+        "c.json: key \"x\" appears twice in 'drift' (each key may appear once)");
+  CHECK(message_of(R"({"output": "a.json", "data": "d.csv", "output": "b.json"})") ==
+        "c.json: key \"output\" appears twice in the top-level object (each key may appear once)");
+  CHECK(message_of(R"({"a": {"b": {"c": 1, "c": 2}}})").find("appears twice in 'a.b'") != std::string::npos);
+  // the same key in different objects, in arrays of objects and as a value is fine
+  CHECK(message_of(R"({"x": {"x": 1}, "l": [{"x": 1}, {"x": 2}], "y": "x"})").empty());
+}

@@ -93,4 +93,18 @@ TEST_CASE("bad measurement files give one-line errors naming file, record and li
   CHECK_THAT(err("b7.csv", "t,x\n0,1\n0,2\n"), Catch::Contains("does not increase"));
   CHECK_THAT(err("b8.csv", ""), Catch::Contains("cannot open") || Catch::Contains("empty"));
   CHECK_THAT(err("b9.csv", "t,x\n0,1\n0.1\n"), Catch::Contains("line 3: has 1 fields"));
+  // a new user's logger files (25 Nov): extra non-empty fields (a shifted row), a record at
+  // another interval in the same file (was: cut into single samples and dropped, exit 0),
+  // classic-Mac line ends (was: a 600 kB message), UTF-16, an .npz archive
+  CHECK_THAT(err("b10.csv", "t,x\n0,1\n0.1,2,7\n0.2,3\n"), Catch::Contains("line 3: has 3 fields, the header 2"));
+  std::string mixed = "traj,t,x\n";
+  for (int i = 0; i < 20; ++i) mixed += "0," + std::to_string(0.01 * i) + "," + std::to_string(std::sin(i)) + "\n";
+  for (int i = 0; i < 20; ++i) mixed += "1," + std::to_string(0.02 * i) + "," + std::to_string(std::sin(i)) + "\n";
+  CHECK_THAT(err("b11.csv", mixed), Catch::Contains("b11.csv: line 24 (record traj=1)") &&
+                                        Catch::Contains("sampling interval changes from 0.01 to 0.02"));
+  CHECK_THAT(err("b12.csv", "t,x\r0,1\r0.1,2\r0.2,3\r"), Catch::Contains("'\\r' alone"));
+  CHECK_THAT(err("b13.csv", std::string("\xFF\xFEt\0,\0x\0\n\0", 10)), Catch::Contains("UTF-16"));
+  CHECK_THAT(err("b14.npz", "PK\x03\x04"), Catch::Contains("b14.npz: .npz files are not read"));
+  // trailing empty fields (Silverbox's "V1,V2,") stay fine
+  CHECK(err("b15.csv", "t,x,\n0,1,\n0.1,2,,\n0.2,3,\n").find("no error") == 0);
 }

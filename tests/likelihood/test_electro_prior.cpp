@@ -1,4 +1,4 @@
-// The block-start prior of the electromechanical state (detail/electro_prior.hpp), against a
+// The block-start prior of the electromechanical state (detail/hidden_prior.hpp), against a
 // route the filter never uses: a LINEAR coupled oscillator by its exact discretisation
 // (electro_linear.hpp). On such data the filter is an exact Kalman filter once each block's
 // prior is the stationary law of the hidden states given x_0, so the score at the truth is
@@ -12,7 +12,7 @@
 
 #include "electro_linear.hpp"
 #include "stat_bounds.hpp"
-#include "vehs/likelihood/detail/electro_prior.hpp"
+#include "vehs/likelihood/detail/hidden_prior.hpp"
 #include "vehs/likelihood/score_test.hpp"
 
 using namespace vehs;
@@ -30,8 +30,8 @@ TEST_CASE("electromechanical prior: the linear model's stationary law given x_0"
   REQUIRE(st.drift.size() == c.drift.size());
   const Eigen::Matrix3d S = stationary_covariance();
   for (double x0 : {-0.3, 0.0, 0.17}) {
-    likelihood::detail::ElectroPrior<double> p;
-    REQUIRE(likelihood::detail::electro_prior(st, c, x0, 1.0, p));
+    likelihood::detail::HiddenPrior<double> p;
+    REQUIRE(likelihood::detail::hidden_prior(st, c, x0, 1.0, p));
     CHECK(p.mean_v == Approx(S(2, 0) / S(0, 0) * x0).margin(1e-12));
     CHECK(p.var_v == Approx(S(2, 2) - S(2, 0) * S(2, 0) / S(0, 0)).epsilon(1e-10));
     CHECK(p.var_y == Approx(S(1, 1) - S(1, 0) * S(1, 0) / S(0, 0)).epsilon(1e-10));
@@ -44,11 +44,11 @@ TEST_CASE("electromechanical prior: the linear model's stationary law given x_0"
     for (std::size_t t = 0; t < st.drift.size(); ++t)
       if (st.drift[t].name() == "x") cc.drift[t] = -stiffness;
     cc.coupling = kappa, cc.lambda = lambda;
-    likelihood::detail::ElectroPrior<double> p;
-    const bool ok = likelihood::detail::electro_prior(st, cc, 0.1, 1.0, p);
+    likelihood::detail::HiddenPrior<double> p;
+    const bool ok = likelihood::detail::hidden_prior(st, cc, 0.1, 1.0, p);
     return std::make_pair(ok, p);
   };
-  auto same = [](const likelihood::detail::ElectroPrior<double>& p, const likelihood::detail::ElectroPrior<double>& q) {
+  auto same = [](const likelihood::detail::HiddenPrior<double>& p, const likelihood::detail::HiddenPrior<double>& q) {
     CHECK(p.mean_v == Approx(q.mean_v).epsilon(1e-5).margin(1e-9));
     CHECK(p.var_v == Approx(q.var_v).epsilon(1e-5));
     CHECK(p.var_y == Approx(q.var_y).epsilon(1e-5));

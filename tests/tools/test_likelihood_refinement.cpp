@@ -312,7 +312,7 @@ TEST_CASE("identify-vehs with the likelihood: a filter that diverges, an input s
 // standard error, and nothing is written.
 //  * Silverbox, 10^4 estimation samples (the first of scripts/silverbox.sh's range): with the
 //    block-start prior of v that ignored x_0 the likelihood's optimum had coupling ≈ −950 ± 340
-//    and was refused; with the stationary prior given x_0 (electro_prior.hpp) the effect is not
+//    and was refused; with the stationary prior given x_0 (hidden_prior.hpp) the effect is not
 //    determined by these data (coupling 3.1e3 ± 6.0e3, λ 1.3 ± 3.6 /s, correlation with
 //    drift[x] ≈ 1): a model file simulate-vehs reads. The refusal itself: tests/likelihood/
 //    test_domain.cpp;

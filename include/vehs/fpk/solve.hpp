@@ -162,8 +162,16 @@ namespace detail {
 struct SolverAccess;  // the solvers' access to a cache's factorisation (solve.cpp)
 }  // namespace detail
 
+/// A solve whose density has no positive mass: the grid cannot carry the model (far too few
+/// cells, or a domain that misses the density); solve_with_domain treats it as unresolved.
+class SolveBreakdown : public Error {
+ public:
+  using Error::Error;
+};
+
 /// Assembles and solves on `grid`; fills density, marginals, moments, identities, wells.
 /// `reuse` (optional) is a factorisation cache for repeated solves on one grid (sweeps).
+/// Throws SolveBreakdown when the solution has no positive mass.
 StationaryResult solve_stationary(const FpkModel& model, const Grid& grid,
                                   const SolveOptions& options, DirectSolverCache* reuse = nullptr);
 

@@ -207,6 +207,7 @@ def cases():
         "data no x column": "traj,t,y\n0,0,1\n0,0.01,2\n",
         "data binary garbage": "\x00\x01\x02\xff" * 100,
         "data missing field": "traj,t,x\n0,0.0,0.1\n0,0.01\n0,0.02,0.2\n",
+        "data CR-only line ends": csv_text([(0, 0.01 * i, 0.1 * ((i * 7) % 13 - 6)) for i in range(30)]).replace("\n", "\r"),
         "data extra field": csv_text([(0, 0.01 * i, 0.1 * ((i * 7) % 13 - 6)) for i in range(30)]).replace(
             "\n0,0.1,", "\n0,0.1,7,", 1),
         "data npy garbage": "\x93NUMPY\x01\x00\xff\xff{'descr': '<f8', 'fortran_order': False, 'shape': (99999999999,), }",
@@ -215,6 +216,8 @@ def cases():
         for name, text in bad_data.items():
             fname = "bad.npy" if "npy" in name else "bad.csv"
             add(Case(name, t, with_(t, data=[fname]), files={fname: text}, mentions=[fname]))
+        add(Case("data is a NumPy .npz archive", t, with_(t, data=["arrays.npz"]), files={"arrays.npz": "PK\x03\x04" * 50},
+                 mentions=["arrays.npz"]))
         add(Case("data is a directory", t, with_(t, data=["ddir"]), mentions=["ddir"],
                  setup=lambda d: os.mkdir(os.path.join(d, "ddir"))))
         add(Case("data is missing", t, with_(t, data=["missing.csv"]), mentions=["missing.csv"]))

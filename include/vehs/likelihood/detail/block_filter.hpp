@@ -4,9 +4,9 @@
 //
 // Start: the block is conditioned on its first sample — x ~ N(x_0, measurement variance) (a
 // diffuse prior updated with x_0), y ~ N(0, y_prior_var) (data-based, the same for every
-// parameter value); with electromechanical_coupling (y, v) from the stationary law of the model
-// linearised at x_0, given x_0 (electro_prior.hpp), or where that has none y as above and
-// v ~ N(0, v_prior_var); η from its stationary law N(0, intensity/2τ).
+// parameter value); with electromechanical_coupling or colored_noise (y, v, η) from the
+// stationary law of the model linearised at x_0, given x_0 (hidden_prior.hpp), or where that has
+// none y as above, v ~ N(0, v_prior_var) and η from its own stationary law N(0, intensity/2τ).
 // Then for k = 1 … n−1: time update over [t_{k−1}, t_k] by RK4 substeps of the moment equations
 // (the drive held or interpolated over [t_{k−1}, t_k], input_path.hpp), measurement update with
 // x_k = x(t_k) + ε_k: innovation e_k = x_k − m_x, S_k = P_xx + σ_ε², log-likelihood
@@ -15,7 +15,7 @@
 #include <algorithm>
 #include <cstddef>
 
-#include "vehs/likelihood/detail/electro_prior.hpp"
+#include "vehs/likelihood/detail/hidden_prior.hpp"
 #include "vehs/likelihood/detail/moment_system.hpp"
 #include "vehs/likelihood/ode.hpp"
 
@@ -67,18 +67,17 @@ T filter_block(const Structure& st, const Coefficients<T>& c, const BlockData& b
   s[Pk::p(0, 0)] = c.measurement_var;
   s[Pk::p(1, 1)] = T(b.y_prior_var);
   if constexpr (D == 4) {
-    if (st.electro) {
-      ElectroPrior<T> pr;
-      if (electro_prior(st, c, b.x[0], b.y_prior_var / b.v_prior_var, pr)) {  // the stationary law given x_0 (electro_prior.hpp)
-        s[2] = pr.mean_v;
-        s[Pk::p(1, 1)] = pr.var_y;
-        s[Pk::p(2, 2)] = pr.var_v;
-        s[Pk::p(1, 2)] = pr.cov_yv;
-      } else {
-        s[Pk::p(2, 2)] = T(b.v_prior_var);
-      }
+    HiddenPrior<T> pr;
+    if ((st.electro || st.colored) && hidden_prior(st, c, b.x[0], b.y_prior_var / b.v_prior_var, pr)) {
+      // the stationary law of the linearised model given x_0 (hidden_prior.hpp)
+      s[Pk::p(1, 1)] = pr.var_y;
+      if (st.electro) s[2] = pr.mean_v, s[Pk::p(2, 2)] = pr.var_v, s[Pk::p(1, 2)] = pr.cov_yv;
+      if (st.colored) s[3] = pr.mean_eta, s[Pk::p(3, 3)] = pr.var_eta, s[Pk::p(1, 3)] = pr.cov_yeta;
+      if (st.electro && st.colored) s[Pk::p(2, 3)] = pr.cov_veta;
+    } else {
+      if (st.electro) s[Pk::p(2, 2)] = T(b.v_prior_var);
+      if (st.colored) s[Pk::p(3, 3)] = c.intensity / (2.0 * c.tau);
     }
-    if (st.colored) s[Pk::p(3, 3)] = c.intensity / (2.0 * c.tau);
   }
   T total{};
   for (std::size_t k = 1; k < b.n; ++k) {
