@@ -1,6 +1,7 @@
 // CSV as loggers write it (see vehs/io/measurements.hpp): streamed in chunks of 4 MiB (or the
 // file, when smaller), one pass.
 #include <algorithm>
+#include <cctype>
 #include <array>
 #include <cmath>
 #include <istream>
@@ -52,7 +53,15 @@ void split(std::string_view line, char delimiter, std::vector<std::string_view>&
 
 bool is_comment_or_blank(std::string_view line) {
   const auto p = line.find_first_not_of(" \t\r");
-  return p == std::string_view::npos || line[p] == '#';
+  return p == std::string_view::npos || line[p] == '#' || line[p] == '%';
+}
+
+/// A spreadsheet's or logger's missing value: NA, N/A, #N/A, null (any case).
+bool is_missing_token(std::string_view f) {
+  if (f.size() > 4) return false;
+  std::string lower(f);
+  for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return lower == "na" || lower == "n/a" || lower == "#n/a" || lower == "null";
 }
 
 /// Lines expected in a stream of `bytes` bytes whose first chunk is `first` (its line density,
@@ -128,13 +137,22 @@ class CsvParser {
     rb_ = std::make_unique<RecordBuilder>(d_, path_, o_, idx_.present(), summary_);
   }
 
-  /// The number in a field; NaN for an empty field or "nan" (a missing value, RecordBuilder decides).
+  /// The number in a field; NaN for a missing value (empty, "nan", or a spreadsheet's NA, N/A,
+  /// #N/A, null: RecordBuilder decides). With a ';' or tab delimiter a decimal comma ("0,125")
+  /// is read as a decimal point (European locales).
   double value(int column, const std::string& name) {
     std::string_view f = trim(fields_[static_cast<std::size_t>(column)]);
-    if (f.empty()) return std::numeric_limits<double>::quiet_NaN();
+    if (f.empty() || is_missing_token(f)) return std::numeric_limits<double>::quiet_NaN();
     if (f.front() == '+') f.remove_prefix(1);
     double v = 0.0;
-    const auto r = fast_float::from_chars(f.data(), f.data() + f.size(), v);
+    auto r = fast_float::from_chars(f.data(), f.data() + f.size(), v);
+    if ((r.ec != std::errc() || r.ptr != f.data() + f.size()) && delimiter_ != ',' &&
+        std::count(f.begin(), f.end(), ',') == 1 && f.find('.') == f.npos) {
+      std::string dotted(f);
+      dotted[dotted.find(',')] = '.';
+      r = fast_float::from_chars(dotted.data(), dotted.data() + dotted.size(), v);
+      if (r.ec == std::errc() && r.ptr == dotted.data() + dotted.size()) return v;
+    }
     if (r.ec != std::errc() || r.ptr != f.data() + f.size())
       throw Error(rb_->where(line_no_) + ": column '" + name + "': '" + std::string(f) + "' is not a number");
     return v;

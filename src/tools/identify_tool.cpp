@@ -376,7 +376,22 @@ IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressC
   if (static_cast<std::size_t>(o.folds) * 100 > data.total_samples())
     c.fail("folds", "= " + std::to_string(o.folds) + " leaves fewer than 100 samples per fold (the data have " +
                         std::to_string(data.total_samples()) + ")");
-  IdentifyFit fit{identify::identify(data, o), {}};
+  IdentifyFit fit{[&] {
+                    try {
+                      return identify::identify(data, o);
+                    } catch (const Error& e) {  // a DC offset makes 1, x, x², … collinear: say the cure
+                      const std::string what = e.what();
+                      if (what.find("ill-conditioned") == std::string::npos || c.has("detrend")) throw;
+                      double m = 0.0, q = 0.0;
+                      for (double v : data.x) m += v, q += v * v;
+                      m /= double(data.x.size());
+                      const double sd = std::sqrt(std::max(q / double(data.x.size()) - m * m, 0.0));
+                      if (!(std::abs(m) > 3.0 * sd)) throw;
+                      throw Error(what + "; x's mean is " + g(std::abs(m) / sd) +
+                                  " standard deviations from 0: \"detrend\": \"mean\" removes each record's offset");
+                    }
+                  }(),
+                  {}};
   Options quiet = o;
   quiet.progress = {};
   fit.refinement = refine_moment_fit(fit.result.model, data, lik,

@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -67,6 +68,30 @@ TEST_CASE("CSV quirks: quoted headers, trailing commas, free column order, no ti
   CHECK(d.records[0].dt == 0.5);
   const auto q = temp("vehs_order.csv", "x,t\n1,0\n2,0.1\n3,0.2\n");
   CHECK(vehs::read_measurements(q).records[0].dt == Approx(0.1));
+}
+
+TEST_CASE("European and spreadsheet CSV: decimal commas with ';', '%' comments, NA / #N/A as missing",
+          "[io]") {
+  // a new user's logger files (25 Nov 2026) stopped at "'0,000000' is not a number", "no column
+  // 'x' (columns: % logger v1)" and "'NA' is not a number"
+  std::string text = "% logger v1\n% channel 1: mm\nt;x\n";
+  for (int i = 0; i < 40; ++i) {
+    char row[64];
+    std::snprintf(row, sizeof row, "%d,%02d;%s\n", i / 100, i % 100, i == 20 ? "#N/A" : i == 21 ? "NA" : "0,5");
+    text += row;
+  }
+  vehs::ReadOptions o;
+  o.min_samples = 16;
+  vehs::ReadSummary summary;
+  const auto d = vehs::read_measurements(temp("vehs_euro.csv", text), o, &summary);
+  REQUIRE(d.records.size() == 2);  // split at the two missing values
+  CHECK(d.records[0].size == 20);
+  CHECK(d.records[1].size == 18);
+  CHECK(d.records[0].dt == Approx(0.01));
+  CHECK(d.x[0] == 0.5);
+  // with ',' as the delimiter a comma is never a decimal point
+  CHECK_THROWS_WITH(vehs::read_measurements(temp("vehs_comma.csv", "t,x\n0,1,5\n0.1,2\n"), o),
+                    Catch::Contains("has 3 fields"));
 }
 
 TEST_CASE("bad measurement files give one-line errors naming file, record and line", "[io]") {

@@ -229,6 +229,9 @@ def cases():
                  setup=lambda d: make_bom(d, "data.csv", "bom.csv")))
         add(Case("glitch sample", t, with_(t, data=["glitch.csv"]), mentions=["glitch.csv"],
                  setup=lambda d: make_glitch(d, "data.csv", "glitch.csv")))
+        if t == "identify-vehs":
+            add(Case("x with a large offset (names the cure, detrend)", t, with_(t, data=["offset.csv"]),
+                     mentions=["detrend"], setup=lambda d: make_offset(d, "data.csv", "offset.csv")))
         add(Case("a dropout logged as 0 (a flat stretch)", t, with_(t, data=["dropout.csv"]), mentions=["dropout.csv"],
                  setup=lambda d: make_dropout(d, "data.csv", "dropout.csv")))
         add(Case("a record sampled at another interval in the same file", t, with_(t, data=["mixed.csv"]),
@@ -374,6 +377,18 @@ def make_bom(d, src, dst):
         text = f.read()
     with open(os.path.join(d, dst), "w", encoding="utf-8") as f:
         f.write("\ufeff" + text)
+
+
+def make_offset(d, src, dst):
+    with open(os.path.join(d, src)) as f:
+        lines = f.read().splitlines()
+    out = [lines[0]]
+    for line in lines[1:]:
+        parts = line.split(",")
+        parts[-1] = repr(1000.0 + float(parts[-1]))
+        out.append(",".join(parts))
+    with open(os.path.join(d, dst), "w") as f:
+        f.write("\n".join(out) + "\n")
 
 
 def make_dropout(d, src, dst):
