@@ -28,6 +28,7 @@
 # `spread_long16_paper10_gen160` (`_gen72`) the same with the data generated at 160 (72) steps per interval (VEHS_GEN_SUBSTEPS;
 # default 40); the first also refits seeds 0, 4, 9 (VEHS_SPREAD_REFIT) to compare the maximum with the step.
 # `spread_long16_paper05`: the same at omega_max*dt 0.5 (the data of corrected_long16_paper05; ~5 CPU s a seed).
+# `corrected_long16_paper10noise_gen160`: that condition on data generated at 160 steps per interval (~145 CPU s a seed).
 # `hidden_state_bias`: identify's moment fit of electromechanical_coupling and colored_noise against
 # dt at 288 records (bench_hidden_state_bias; the likelihood's at dt 0.05 for 2 seeds each): the
 # evidence for the hidden-state rule of estimator "auto" (vehs/likelihood/adequacy.hpp); ~10 CPU min.
@@ -98,6 +99,8 @@ for ((i = 0; i < ${#parts[@]}; ++i)); do
     corrected_paper05noise) run "$p" "$bench" synthetic paper 0.118 0.02 "${PAPER_SEEDS:-20}" 1000 "${RECORDS:-8}" 8 ;;
     corrected_long_paper10noise) run "$p" "$bench" synthetic paper 0.236 0.02 "${PAPER_SEEDS:-10}" 1000 32 8 ;;
     corrected_long16_paper10noise) run "$p" "$bench" synthetic paper 0.236 0.02 "${PAPER_SEEDS:-20}" 1000 128 8 ;;
+    corrected_long16_paper10noise_gen160) VEHS_GEN_SUBSTEPS=160 VEHS_SECOND_COVARIANCE=sandwich \
+        run "$p" "$bench" synthetic paper 0.236 0.02 "${PAPER_SEEDS:-20}" 1000 128 8 ;;
     corrected_long16_paper10) run "$p" "$bench" synthetic paper 0.236 0 "${PAPER_SEEDS:-20}" 1000 128 8 ;;
     corrected_long16_paper05) run "$p" "$bench" synthetic paper 0.118 0 "${PAPER_SEEDS:-20}" 1000 128 8 ;;
     corrected_long16_paper05noise) run "$p" "$bench" synthetic paper 0.118 0.02 "${PAPER_SEEDS:-20}" 1000 128 8 ;;
