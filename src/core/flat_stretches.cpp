@@ -11,6 +11,9 @@ namespace vehs {
 namespace {
 
 constexpr std::size_t kMinRun = 5;
+/// A record with this share of its consecutive pairs repeated inside short runs is quantised:
+/// its values repeat legitimately, in long runs at its turning points, so it is not checked.
+constexpr double kQuantisedShare = 1e-3;
 constexpr double kFalseAlarm = 1e-9;  ///< per record, under independent repeats
 
 /// The shortest run flagged in a record of n samples with `equal` equal consecutive pairs.
@@ -29,9 +32,16 @@ std::vector<FlatStretch> find_flat_stretches(const Dataset& data) {
     const Record& rec = data.records[k];
     if (rec.size < kMinRun) continue;
     const double* x = data.x_of(rec);
-    std::size_t equal = 0;
-    for (std::size_t i = 1; i < rec.size; ++i) equal += x[i] == x[i - 1];
+    std::size_t equal = 0, in_short_runs = 0;  // equal pairs; those inside runs shorter than kMinRun
+    for (std::size_t i = 0; i < rec.size;) {
+      std::size_t j = i + 1;
+      while (j < rec.size && x[j] == x[i]) ++j;
+      equal += j - i - 1;
+      if (j - i < kMinRun) in_short_runs += j - i - 1;
+      i = j;
+    }
     if (equal + 1 < kMinRun) continue;
+    if (double(in_short_runs) >= kQuantisedShare * double(rec.size - 1)) continue;  // quantised: not checked
     const std::size_t bar = flagged_run(rec.size, equal);
     for (std::size_t i = 0; i < rec.size;) {
       std::size_t j = i + 1;

@@ -40,15 +40,16 @@ char detect_delimiter(std::string_view header) {
   return best;
 }
 
+/// The fields of a line; a delimiter inside double quotes ("a, b", "1,234.5") does not split.
 void split(std::string_view line, char delimiter, std::vector<std::string_view>& fields) {
   fields.clear();
   std::size_t start = 0;
-  while (true) {
-    const auto c = line.find(delimiter, start);
-    fields.push_back(line.substr(start, c == std::string_view::npos ? line.npos : c - start));
-    if (c == std::string_view::npos) break;
-    start = c + 1;
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    if (line[i] == '"') quoted = !quoted;
+    else if (line[i] == delimiter && !quoted) fields.push_back(line.substr(start, i - start)), start = i + 1;
   }
+  fields.push_back(line.substr(start));
 }
 
 bool is_comment_or_blank(std::string_view line) {

@@ -25,7 +25,8 @@ KeySpec flat_stretches_key_spec() {
           "Flat stretches: runs of one exactly repeated value of x longer than the record's own repeats "
           "explain (a dropout logged as 0 or as the last value, a stuck or saturated sensor; a run of L "
           "samples when N p^(L-1) < 1e-9 and L >= 5, p the record's share of equal consecutive samples, "
-          "N its length): \"error\" stops naming their lines, \"drop\" cuts each record there (as for "
+          "N its length; quantised records, with 1 in 1000 consecutive pairs repeated in shorter runs, are "
+          "not checked): \"error\" stops naming their lines, \"drop\" cuts each record there (as for "
           "glitches), \"keep\" fits them as data.",
           "\"error\""};
 }

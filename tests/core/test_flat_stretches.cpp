@@ -47,6 +47,19 @@ TEST_CASE("clean float records and fast integer counts have no flat stretches", 
   }
 }
 
+TEST_CASE("quantised records are not checked: ADC counts and short printouts repeat at the turning "
+          "points", "[core][flat_stretches]") {
+  // a new user's 10-16-bit records at 1-20 kHz and values printed with 2-3 decimals stopped with
+  // false alarms under the record-wide rule (runs of 10-400 samples at the turning points)
+  for (const double dt : {0.001, 0.0002})
+    for (const double resolution : {1e-2, 1e-3, 1e-4}) {
+      vehs::Dataset d = oscillator(20000, 17, 2, dt);
+      for (double& x : d.x) x = resolution * std::round(x / resolution);
+      INFO("dt " << dt << ", resolution " << resolution);
+      CHECK(vehs::find_flat_stretches(d).empty());
+    }
+}
+
 TEST_CASE("drop_flat_stretches cuts the record around each stretch", "[core][flat_stretches][asan]") {
   vehs::Dataset d = oscillator(1000, 5);
   for (std::size_t i = 300; i < 310; ++i) d.x[i] = 0.0;

@@ -89,6 +89,10 @@ TEST_CASE("European and spreadsheet CSV: decimal commas with ';', '%' comments, 
   CHECK(d.records[1].size == 18);
   CHECK(d.records[0].dt == Approx(0.01));
   CHECK(d.x[0] == 0.5);
+  // a delimiter inside double quotes does not split the field (a comment column, a quoted number)
+  const auto q = vehs::read_measurements(
+      temp("vehs_quoted.csv", "t,x,note\n0,1,\"a, b\"\n0.1,2,\"c\"\n0.2,3,\n0.3,4,\"1,234.5\"\n"));
+  CHECK(q.x == std::vector<double>{1, 2, 3, 4});
   // with ',' as the delimiter a comma is never a decimal point
   CHECK_THROWS_WITH(vehs::read_measurements(temp("vehs_comma.csv", "t,x\n0,1,5\n0.1,2\n"), o),
                     Catch::Contains("has 3 fields"));

@@ -6,12 +6,16 @@
 // 50 records of a Duffing in mm: β 51 against 5 and no diffusion term; 20 stuck samples in a
 // record of 30 000: 2D −32 %, 10 SE), so the tools look for them before fitting.
 //
-// Rule, per record of N samples: p = the share of consecutive pairs that are equal (at least
-// 1/N). If repeats were independent with that probability, a run of L equal values would occur
-// somewhere in the record with probability about N·p^(L−1); a run is flagged when that is below
-// 1e-9 and L ≥ 5. Quantised data with many repeats (integer ADC counts at a fast rate:
-// p ≈ 0.9) raise the bar accordingly (runs of several hundred samples); Silverbox (p 3e-5,
-// longest run 2) and float data have none.
+// Rule, per record of N samples: a record whose consecutive pairs repeat inside short runs
+// (fewer than 5 equal values) at least once in 1000 is quantised and is not checked — an ADC's
+// or a printout's values repeat there legitimately, and in long runs at the turning points (a
+// new user's 10-, 12- and 16-bit records at 1–20 kHz and values printed with 2–3 decimals had
+// such runs of 10–400 samples and short-run repeat shares of 0.002–0.33; the first form of this
+// rule, without this test, stopped them with false alarms). In the other records (float data,
+// Silverbox: short-run share 3e-5, longest run 2): p = the share of consecutive pairs that are
+// equal (at least 1/N); if repeats were independent with that probability, a run of L equal
+// values would occur with probability about N·p^(L−1); a run is flagged when that is below 1e-9
+// and L ≥ 5. A dropout in a quantised record is therefore not caught.
 #include <cstddef>
 #include <string>
 #include <vector>
