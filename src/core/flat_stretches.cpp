@@ -43,7 +43,7 @@ std::vector<FlatStretch> find_flat_stretches(const Dataset& data) {
     if (equal + 1 < kMinRun) continue;
     if (double(in_short_runs) >= kQuantisedShare * double(rec.size - 1)) continue;  // quantised: not checked
     const std::size_t bar = flagged_run(rec.size, equal);
-    for (std::size_t i = 0; i < rec.size;) {
+    for (std::size_t i = 0; i < rec.size;) {  // a second pass: storing the candidates would cost memory on quantised data
       std::size_t j = i + 1;
       while (j < rec.size && x[j] == x[i]) ++j;
       if (j - i >= bar) out.push_back({k, i, j - i, rec.first_line + i, x[i]});

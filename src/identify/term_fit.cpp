@@ -85,6 +85,7 @@ struct EstimatorDecision {
   Estimator estimator = Estimator::Forward;
   std::string reason = "requested";
   SamplingVerdict verdict = SamplingVerdict::Unknown;
+  bool unexplained = false;  ///< sampling_unexplained (core/fit_info.hpp) at the pilot's stride
 };
 
 EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested, double omega_dt) {
@@ -92,6 +93,7 @@ EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested, doubl
   d.estimator = requested;
   const SamplingRule rule = sampling_rule(diag.rho_k, diag.rho_2k, diag.rho_3k, diag.rows);
   d.verdict = rule.verdict;
+  d.unexplained = sampling_unexplained(rule.verdict, diag.rho_k, diag.rho_3k, omega_dt);
   if (requested != Estimator::Auto) return d;
   const std::string at = diag.k > 1 ? " at stride " + std::to_string(diag.k) : "";
   if (rule.noisy) {
@@ -103,7 +105,7 @@ EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested, doubl
     d.estimator = Estimator::Uli;
     d.reason = "ULI residuals have lag-" + std::string(diag.k > 1 ? "k" : "1") + " autocorrelation " + fmt(diag.rho_k) + at +
                " (about +1/4: a sensor sampling a continuous-time process)";
-  } else if (sampling_unexplained(rule.verdict, diag.rho_k, diag.rho_3k, omega_dt)) {
+  } else if (d.unexplained) {
     d.estimator = Estimator::Forward;
     d.reason = "ULI residuals have lag-1 autocorrelation " + fmt(diag.rho_k) +
                ", neither about 0 (an explicit scheme at the recorded step) nor about +1/4 (a sensor on a "
@@ -486,7 +488,7 @@ Result identify_terms(const Dataset& data, const Options& options) {
 
   progress.finish();
   finish_terms(qstats, ds, dict, dstats, drift, diffusion, res);
-  rep.estimator = {options.estimator, sampling.decision.reason, h2_correction, rule};
+  rep.estimator = {options.estimator, sampling.decision.reason, h2_correction, rule, sampling.decision.unexplained};
   rep.residuals = residual_report(diffusion.residuals, ds, pilot);
   rep.sparsity = options.sparsity;
   rep.criterion = options.criterion;

@@ -1,8 +1,8 @@
 // CSV as loggers write it (see vehs/io/measurements.hpp): streamed in chunks of 4 MiB (or the
 // file, when smaller), one pass.
 #include <algorithm>
-#include <cctype>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <istream>
 #include <limits>
@@ -143,20 +143,20 @@ class CsvParser {
   /// is read as a decimal point (European locales).
   double value(int column, const std::string& name) {
     std::string_view f = trim(fields_[static_cast<std::size_t>(column)]);
-    if (f.empty() || is_missing_token(f)) return std::numeric_limits<double>::quiet_NaN();
+    if (f.empty()) return std::numeric_limits<double>::quiet_NaN();
     if (f.front() == '+') f.remove_prefix(1);
     double v = 0.0;
     auto r = fast_float::from_chars(f.data(), f.data() + f.size(), v);
-    if ((r.ec != std::errc() || r.ptr != f.data() + f.size()) && delimiter_ != ',' &&
-        std::count(f.begin(), f.end(), ',') == 1 && f.find('.') == f.npos) {
+    if (r.ec == std::errc() && r.ptr == f.data() + f.size()) return v;
+    // the rare fields that are not plain numbers
+    if (is_missing_token(f)) return std::numeric_limits<double>::quiet_NaN();
+    if (delimiter_ != ',' && std::count(f.begin(), f.end(), ',') == 1 && f.find('.') == f.npos) {
       std::string dotted(f);
       dotted[dotted.find(',')] = '.';
       r = fast_float::from_chars(dotted.data(), dotted.data() + dotted.size(), v);
       if (r.ec == std::errc() && r.ptr == dotted.data() + dotted.size()) return v;
     }
-    if (r.ec != std::errc() || r.ptr != f.data() + f.size())
-      throw Error(rb_->where(line_no_) + ": column '" + name + "': '" + std::string(f) + "' is not a number");
-    return v;
+    throw Error(rb_->where(line_no_) + ": column '" + name + "': '" + std::string(f) + "' is not a number");
   }
 
   const std::string& path_;

@@ -80,11 +80,12 @@ std::string owner_of(const nlohmann::json& stats, const std::string& path, const
 /// The model files' `units` sections must agree where both state them: the coefficients of a
 /// model in m and one in mm differ by powers of 1000 (a new user's comparison printed k3 off by
 /// +99 386 066 % with exit 0).
-void require_same_units(const std::string& a, const std::string& b) {
-  const nlohmann::json ja = read_json_file(a, "model file"), jb = read_json_file(b, "model file");
-  const nlohmann::json ua = ja.is_object() ? ja.value("units", nlohmann::json::object()) : nlohmann::json::object();
-  const nlohmann::json ub = jb.is_object() ? jb.value("units", nlohmann::json::object()) : nlohmann::json::object();
-  if (!ua.is_object() || !ub.is_object()) return;
+void require_same_units(const std::string& a, const ModelFile& fa, const std::string& b, const ModelFile& fb) {
+  const auto units = [](const ModelFile& f) {
+    return f.sections.contains("units") && f.sections["units"].is_object() ? f.sections["units"]
+                                                                         : nlohmann::ordered_json::object();
+  };
+  const nlohmann::ordered_json ua = units(fa), ub = units(fb);
   for (const auto& [key, value] : ua.items())
     if (ub.contains(key) && ub[key] != value)
       throw Error(a + " states units." + key + " = " + value.dump() + " but " + b + " states " + ub[key].dump() +
@@ -99,18 +100,18 @@ const ConfigSchema& compare_schema() {
 }
 
 int run_compare(Config& c, const AppOptions&) {
+  const ModelFile learned_file = read_model_file(c.string("learned"));
   auto checked_model = [&](const std::string& key) {  // a model the library would refuse is no table entry
     const std::string path = c.string(key);
-    Model m = load_model_file(path);
-    validate_model(m, path);
-    return m;
+    ModelFile f = key == "learned" ? learned_file : read_model_file(path);
+    validate_model(f.model, path);
+    if (key != "learned") require_same_units(c.string("learned"), learned_file, path, f);
+    return f.model;
   };
   const Model learned = checked_model("learned");
   std::optional<Model> truth, reported;
   if (c.has("truth")) truth = checked_model("truth");
   if (c.has("reported")) reported = checked_model("reported");
-  for (const char* other : {"truth", "reported"})
-    if (c.has(other)) require_same_units(c.string("learned"), c.string(other));
   const std::string rlabel = c.string_or("reported_label", "paper");
 
   // union of parameter names, in the learned model's order, then the others

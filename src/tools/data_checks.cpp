@@ -40,14 +40,12 @@ std::string rule_of(const Config& c, const std::string& key) {
   return rule;
 }
 
-/// One check under its key: "keep" returns the data; else `find` the bad samples, and with
-/// "error" stop naming them, with "drop" cut the records there (said on stderr even with --quiet).
-template <class Found, class Drop>
-Dataset apply_rule(const Config& c, const std::string& key, Dataset data, const Found& found,
-                   const std::string& what, const Drop& drop) {
-  if (rule_of(c, key) == "keep" || found.empty()) return data;
-  if (rule_of(c, key) == "error")
-    throw Error(what + " (config '" + key + "': \"drop\" removes them, \"keep\" fits them)");
+/// What a check that found something does under its rule: "error" stops naming the findings
+/// (`what`), "drop" cuts the records there (said on stderr even with --quiet).
+template <class Drop>
+Dataset apply_rule(const std::string& rule, const std::string& key, const Dataset& data, const std::string& what,
+                   const Drop& drop) {
+  if (rule == "error") throw Error(what + " (config '" + key + "': \"drop\" removes them, \"keep\" fits them)");
   std::cerr << "warning: dropped " << what << "\n";  // changes the data: said even with --quiet
   Dataset kept = drop(data);
   if (kept.records.empty()) throw Error("no record is left after dropping " + what);
@@ -55,20 +53,24 @@ Dataset apply_rule(const Config& c, const std::string& key, Dataset data, const 
 }
 
 Dataset without_flat_stretches(const Config& c, Dataset data) {
-  if (rule_of(c, "flat_stretches") == "keep") return data;
+  const std::string rule = rule_of(c, "flat_stretches");
+  if (rule == "keep") return data;
   const std::vector<FlatStretch> flat = find_flat_stretches(data);
+  if (flat.empty()) return data;
   const std::string what = std::to_string(flat.size()) + " flat stretch" + (flat.size() > 1 ? "es" : "") +
-                           " (one value repeated): " + (flat.empty() ? "" : describe_flat_stretches(data, flat));
-  return apply_rule(c, "flat_stretches", std::move(data), flat, what,
+                           " (one value repeated): " + describe_flat_stretches(data, flat);
+  return apply_rule(rule, "flat_stretches", data, what,
                     [&](const Dataset& d) { return drop_flat_stretches(d, flat); });
 }
 
 Dataset without_glitches(const Config& c, Dataset data) {
-  if (rule_of(c, "glitches") == "keep") return data;
+  const std::string rule = rule_of(c, "glitches");
+  if (rule == "keep") return data;
   const std::vector<Glitch> glitches = find_glitches(data);
+  if (glitches.empty()) return data;
   const std::string what = std::to_string(glitches.size()) + " isolated glitch sample" +
-                           (glitches.size() > 1 ? "s" : "") + ": " + (glitches.empty() ? "" : describe_glitches(data, glitches));
-  return apply_rule(c, "glitches", std::move(data), glitches, what,
+                           (glitches.size() > 1 ? "s" : "") + ": " + describe_glitches(data, glitches);
+  return apply_rule(rule, "glitches", data, what,
                     [&](const Dataset& d) { return drop_glitches(d, glitches); });
 }
 

@@ -11,7 +11,6 @@
 #include <iostream>
 #include <sstream>
 
-#include "vehs/core/dominant_frequency.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/core/parameters.hpp"
 #include "tools/data_checks.hpp"
@@ -362,6 +361,21 @@ identify::StudyOptions study_options(const Config& c) {
   return o;
 }
 
+namespace {
+
+/// "x's mean is N standard deviations from 0: …" when the data's offset dwarfs their spread
+/// (|mean| > 3 sd, all records pooled), else "".
+std::string detrend_hint(const Dataset& data) {
+  double m = 0.0, q = 0.0;
+  for (double v : data.x) m += v, q += v * v;
+  m /= double(data.x.size());
+  const double sd = std::sqrt(std::max(q / double(data.x.size()) - m * m, 0.0));
+  if (!(std::abs(m) > 3.0 * sd)) return "";
+  return "x's mean is " + g(std::abs(m) / sd) + " standard deviations from 0: \"detrend\": \"mean\" removes each record's offset";
+}
+
+}  // namespace
+
 IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressCallback& progress,
                          const std::function<void(const std::string&)>& log, std::optional<Dataset>& ranged) {
   Options o = identify_options(c);
@@ -380,15 +394,9 @@ IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressC
                     try {
                       return identify::identify(data, o);
                     } catch (const Error& e) {  // a DC offset makes 1, x, x², … collinear: say the cure
-                      const std::string what = e.what();
-                      if (what.find("ill-conditioned") == std::string::npos || c.has("detrend")) throw;
-                      double m = 0.0, q = 0.0;
-                      for (double v : data.x) m += v, q += v * v;
-                      m /= double(data.x.size());
-                      const double sd = std::sqrt(std::max(q / double(data.x.size()) - m * m, 0.0));
-                      if (!(std::abs(m) > 3.0 * sd)) throw;
-                      throw Error(what + "; x's mean is " + g(std::abs(m) / sd) +
-                                  " standard deviations from 0: \"detrend\": \"mean\" removes each record's offset");
+                      const std::string what = e.what(), hint = detrend_hint(data);
+                      if (what.find("ill-conditioned") == std::string::npos || c.has("detrend") || hint.empty()) throw;
+                      throw Error(what + "; " + hint);
                     }
                   }(),
                   {}};
@@ -469,11 +477,10 @@ int run_identify(Config& c, const AppOptions& app) {
     sections["figure"] = figure;
   }
   write_model_file(output, r.model, sections);
-  if (const SamplingDiagnosis& s = r.model.fit->sampling;
-      sampling_unexplained(s.verdict, s.rho_k, s.rho_3k, dominant_omega_dt(data) * s.stride))
+  if (const SamplingDiagnosis& s = r.model.fit->sampling; r.report.estimator.sampling_unexplained)
     std::cerr << "warning: " << output << ": the sampling diagnosis cannot explain the data (ULI residuals' lag-k "
               << "autocorrelation " << g(s.rho_k) << " at stride " << s.stride << ", neither about 0 nor about +1/4 "
-              << "at any stride): quantised values, dropouts, stuck or clipped stretches? the estimates may be "
+              << "at the strides tried): quantised values, dropouts, stuck or clipped stretches? the estimates may be "
               << "biased beyond their standard errors\n";
   if (!app.quiet) {
     std::printf("estimator: %s (stride %d; %s)\n", enum_to_string(kEstimatorNames, r.model.fit->estimator).c_str(),

@@ -24,6 +24,9 @@ struct EstimatorChoice {
   std::string reason;                      ///< "requested", or the sampling figures that decided
   bool discretization_correction = false;  ///< (h²/12)·x⁗ removed from the acceleration target
   SsrRule ssr_rule = SsrRule::TRatio;
+  /// The sampling rule explains the data at no stride tried (core/fit_info.hpp,
+  /// sampling_unexplained): quantised values, dropouts, stuck or clipped stretches?
+  bool sampling_unexplained = false;
 };
 
 /// Diagnostics of the final drift residuals.

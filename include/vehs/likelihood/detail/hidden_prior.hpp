@@ -66,7 +66,6 @@ struct HiddenPrior {
 /// false when a pivot is 0.
 template <class T, int N>
 bool solve_small(T (&M)[N][N], T (&r)[N], int m) {
-  using std::abs;
   for (int col = 0; col < m; ++col) {
     int piv = col;
     for (int i = col + 1; i < m; ++i)
