@@ -16,6 +16,7 @@
 #include "tools/data_checks.hpp"
 #include "tools/identify_file.hpp"
 #include "tools/likelihood_refinement.hpp"
+#include "vehs/core/diffusion_in_data.hpp"
 #include "vehs/likelihood/signals.hpp"
 #include "tools/identify_figures.hpp"
 #include "tools/measurement_config.hpp"
@@ -181,7 +182,8 @@ const ConfigSchema& identify_schema() {
            "", true},
           {"output", "path",
            "Model file to write (JSON, atomically). In study mode: the study's JSON; a CSV table "
-           "is written beside it (same name, .csv).",
+           "is written beside it (same name, .csv). Never written when the fitted diffusion a22 is "
+           "negative at a state the data visit.",
            ""},
           {"samples", "[first, last]",
            "Use only samples [first, last) of the data (one record; applied after detrend, so "
@@ -374,6 +376,23 @@ std::string detrend_hint(const Dataset& data) {
   return "x's mean is " + g(std::abs(m) / sd) + " standard deviations from 0: \"detrend\": \"mean\" removes each record's offset";
 }
 
+/// A variance rate cannot be negative where the data go: the fit's diffusion terms are not
+/// supported by the data (vehs/core/diffusion_in_data.hpp); the model is not written.
+void require_diffusion_in_data(const Model& m, const Dataset& data, const std::string& where) {
+  const DiffusionInData low = lowest_diffusion_in_data(m, data, m.fit ? m.fit->stride : 1);
+  if (low.negative == 0) return;
+  const Record& rec = data.records[low.record];
+  std::string terms;
+  bool on_y = false;
+  for (const auto& tc : m.diffusion) terms += (terms.empty() ? "" : ", ") + tc.term.name(), on_y = on_y || tc.term.depends_on_y();
+  throw Error("identify: the fitted diffusion a22 = " + g(low.a22) + " is negative at x = " + g(low.x) +
+              (on_y ? ", y = " + g(low.y) : std::string()) + " (" + record_name(rec) + ", line " +
+              std::to_string(rec.first_line + low.sample) + "; " + std::to_string(low.negative) + " of " +
+              std::to_string(low.samples) + " samples): the data do not support the diffusion terms " + terms +
+              " (a variance rate is >= 0); a smaller diffusion_library (e.g. [\"1\"]) or a look at the data "
+              "(quantised, clipped?); " + where + " not written");
+}
+
 }  // namespace
 
 IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressCallback& progress,
@@ -413,6 +432,7 @@ IdentifiedInMemory identify_in_memory(const Config& c, const Dataset& data, cons
   const auto start = std::chrono::steady_clock::now();
   IdentifiedInMemory out{identify_fit(c, data, progress, log, ranged), {}};
   validate_model(out.fit.result.model, where);
+  require_diffusion_in_data(out.fit.result.model, ranged ? *ranged : data, where);
   for (const Effect& e : out.fit.result.model.effects)  // what simulate-vehs refuses to read, never written
     if (const std::string why = effect_domain_violation(e); !why.empty())
       throw Error("identify: the fit puts " + why + ": the data do not support " + e.name() +
