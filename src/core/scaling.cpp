@@ -75,6 +75,7 @@ Model convert(const Model& in, const Scales& s, int power) {
   if (m.fit) {
     m.fit->sampling.dt *= std::pow(s.time, power);
     m.fit->sampling.sensor_noise_sd *= std::pow(s.length, power);
+    m.fit->sampling.quantisation_step *= std::pow(s.length, power);
   }
   return m;
 }

@@ -123,7 +123,7 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
       const std::size_t j = j0 + static_cast<std::size_t>(row[c]);
       rr[c] = r[j];
       double z = 0.0, w = 1.0;
-      if (!diffusion_target(ds.target, cx.kin, r, raw, j, avail, z)) {
+      if (!diffusion_target(ds.target, cx.kin, r, raw, j, avail, z, ds.uli_noise)) {
         w = 0.0;
       } else {
         acc.n += 1.0;

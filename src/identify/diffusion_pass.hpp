@@ -14,14 +14,16 @@
 namespace vehs::identify::detail {
 
 /// Diffusion target of row j from residuals (r[j], r[j+k]) or raw accelerations; false when
-/// unavailable (the last k rows of a record for the noisy target).
+/// unavailable (the last k rows of a record for the noisy target). `uli_noise`: what a known
+/// white noise of variance s² on x adds to the ULI target, 1.5h·6s²/h⁴ = 9s²/h³ (quantised
+/// records, vehs/core/quantisation.hpp); the noisy target cancels any white noise itself.
 inline bool diffusion_target(Target t, const Kinematics& kin, const std::vector<double>& r,
                              const std::vector<double>& raw, std::size_t j, std::size_t avail,
-                             double& z) {
+                             double& z, double uli_noise) {
   switch (t) {
     case Target::RawKM: z = raw[j] * raw[j] * kin.dt; return true;
     case Target::Forward: z = r[j] * r[j] * kin.dt; return true;
-    case Target::Uli: z = 1.5 * kin.h * r[j] * r[j]; return true;
+    case Target::Uli: z = 1.5 * kin.h * r[j] * r[j] - uli_noise; return true;
     case Target::Noisy: {
       const std::size_t jk = j + static_cast<std::size_t>(kin.k);
       if (jk >= avail) return false;
@@ -80,6 +82,7 @@ struct DiffusionSetup {
   bool scores = false;
   bool ito = false;           // drift score has −½ ∂_vφ a22
   bool noise = false;         // drift score has the sensor-noise corrections (∝ s²)
+  double uli_noise = 0.0;     // a known white noise's part of the ULI target (diffusion_target)
   int block_rows = 1024;      // rows of a batch of the batch-means covariance (multiple of 256)
 };
 

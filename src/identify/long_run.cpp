@@ -31,7 +31,7 @@ void long_run_span(const Context& cx, const DiffusionSetup& ds, const VectorXd& 
     a22.head(m).noalias() = Psi.topLeftCorner(m, P) * q;
     for (int c = 0; c < m; ++c) {
       double z;
-      if (diffusion_target(ds.target, cx.kin, r, raw, j0 + static_cast<std::size_t>(c), avail, z))
+      if (diffusion_target(ds.target, cx.kin, r, raw, j0 + static_cast<std::size_t>(c), avail, z, ds.uli_noise))
         e[j0 + static_cast<std::size_t>(c)] = z - a22[c];
     }
   }

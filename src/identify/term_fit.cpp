@@ -16,6 +16,7 @@
 #include "standard_errors.hpp"
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/dominant_frequency.hpp"
+#include "vehs/core/quantisation.hpp"
 #include "vehs/core/error.hpp"
 
 namespace vehs::identify::detail {
@@ -127,6 +128,7 @@ struct PilotInputs {
   const double* known;
   std::size_t min_size;  ///< samples of the shortest record
   double omega_dt;       ///< the data's ω̂Δt (vehs/core/dominant_frequency.hpp)
+  Quantisation quant;    ///< the grid of quantised values (vehs/core/quantisation.hpp)
 
   bool too_short(int k) const { return min_size < 4 * static_cast<std::size_t>(k) + kMinRecordSamples; }
   Pilot run(int k, Target target, bool central = true) const {
@@ -278,11 +280,23 @@ struct SamplingStage {
   EstimatorDecision decision;
   Pilot pilot;
   int k = 1;
+  double known_s2 = 0.0;  ///< white noise of known variance on x at stride k (quantisation), else 0
 };
+
+/// Quantised values (vehs/core/quantisation.hpp): the rounding's white noise q²/12, known, at a
+/// stride where it is white (central kinematics only); the reason says so.
+void add_quantisation_noise(SamplingStage& st, const Quantisation& quant, Estimator est) {
+  if (!quant.quantised() || !uses_central_kinematics(est) || st.k < quant.dither_stride) return;
+  st.known_s2 = quant.noise_variance();
+  st.decision.reason += "; the values lie on a grid (sampling.quantisation_step): its rounding noise, white from stride " +
+                        std::to_string(quant.dither_stride) + ", corrected";
+}
 
 SamplingStage sampling_stage(const PilotInputs& in, const Options& options) {
   SamplingStage st;
-  int k = options.stride > 0 ? options.stride : 1;
+  // quantised values at a fast rate: the rounding error is white only from the dither stride
+  const bool central_request = options.estimator == Estimator::Auto || uses_central_kinematics(options.estimator);
+  int k = options.stride > 0 ? options.stride : central_request ? in.quant.dither_stride : 1;
   if (in.too_short(k))
     throw Error("records are too short for stride " + std::to_string(k) + " (the shortest has " +
                 std::to_string(in.min_size) + " samples, " +
@@ -301,6 +315,7 @@ SamplingStage sampling_stage(const PilotInputs& in, const Options& options) {
     st.pilot = in.run(st.k, target, central);
   const Kinematics kin(central, st.k, in.dt);
   finish_pilot(st.pilot, in.data, in.dict.phi, in.dict.psi, kin, in.known);
+  add_quantisation_noise(st, in.quant, est);
   return st;
 }
 
@@ -314,7 +329,7 @@ struct DriftSelection {
 };
 
 DriftSelection select_drift(const std::vector<DriftStats>& folds, const Dictionaries& dict, const Pilot& pilot,
-                            Estimator est, double h, SelectionOptions selection, Report& rep) {
+                            Estimator est, double h, double known_s2, SelectionOptions selection, Report& rep) {
   DriftSelection d;
   d.total = folds[0];
   for (std::size_t f = 1; f < folds.size(); ++f) d.total.add(folds[f]);
@@ -325,12 +340,74 @@ DriftSelection select_drift(const std::vector<DriftStats>& folds, const Dictiona
       require_well_conditioned(d.total.Gaug.topLeftCorner(P, P), full_support(P), dict.phi_names, "the drift dictionary");
   d.corr.ito = uses_central_kinematics(est);
   d.corr.q = pilot.q;
-  if (est == Estimator::Noisy) d.s2 = set_sensor_noise(pilot.C2k - pilot.C3k, h, d.corr);
+  const double known_c = known_s2 / (h * h * h * h);  // its C(2k) − C(3k)
+  if (est == Estimator::Noisy) d.s2 = set_sensor_noise(std::max(pilot.C2k - pilot.C3k, known_c), h, d.corr);
+  else if (known_s2 > 0.0) d.s2 = set_sensor_noise(known_c, h, d.corr);
   rep.drift_selection.dictionary = dict.phi.terms();
   selection.variance_factor = pilot.drift_lr;
   rep.drift_selection.selection = select_sparse(drift_folds(folds, dict.phi, d.corr), full_support(P), dict.keep_phi, selection);
   d.support = chosen_fit(rep.drift_selection.selection).support;
   return d;
+}
+
+/// The states the data visit, for the sign of a22: x over the data's range, y over ±4 sd of v̂.
+struct StateBox {
+  double x_lo = 0.0, x_hi = 0.0, y_sd = 0.0;
+};
+
+StateBox state_box(const Dataset& data, double v_sd) {
+  StateBox b;
+  b.x_lo = b.x_hi = data.x[0];
+  for (double v : data.x) b.x_lo = std::min(b.x_lo, v), b.x_hi = std::max(b.x_hi, v);
+  b.y_sd = v_sd;
+  return b;
+}
+
+/// Whether a22 = Σ q_j ψ_j is > 0 on a grid over the box (201 values of x; 41 of y when ψ
+/// depends on y) and at the rest state (0, 0) when the box holds it (a22 = c x² is no noise at rest).
+bool positive_on(const Dictionary& psi, const VectorXd& q, const StateBox& box) {
+  TermList a22;
+  bool on_y = false;
+  for (int j = 0; j < psi.size(); ++j)
+    if (q[j] != 0.0) a22.push_back({psi.term(j), q[j]}), on_y = on_y || psi.term(j).depends_on_y();
+  if (box.x_lo <= 0.0 && box.x_hi >= 0.0 && !(evaluate(a22, 0.0, 0.0) > 0.0)) return false;
+  const int nx = 201, ny = on_y ? 41 : 1;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) {
+      const double x = box.x_lo + (box.x_hi - box.x_lo) * i / (nx - 1);
+      const double y = on_y ? 4.0 * box.y_sd * (2.0 * j / (ny - 1) - 1.0) : 0.0;
+      if (!(evaluate(a22, x, y) > 0.0)) return false;
+    }
+  return true;
+}
+
+/// A variance rate is > 0: when the selected diffusion is not somewhere the data go (weakly
+/// determined terms at the edges of the range: quantised records at 20 kHz read x⁴ = −0.10 with
+/// a22 < 0 beyond 77 counts of data reaching 87), the first sparser step of the path whose
+/// diffusion is > 0 there is taken, and the rule says so (none: the selection stands and
+/// identify-vehs refuses to write the model, vehs/core/diffusion_in_data.hpp).
+void positive_step(SelectionResult& sel, const QuadraticStats& total, const Dictionary& psi,
+                   const std::vector<bool>& keep, const StateBox& box) {
+  const int K = psi.size();
+  auto positive = [&](const SupportFit& f) { return positive_on(psi, full_coefficients(f, K), box); };
+  if (positive(sel.path[static_cast<std::size_t>(sel.chosen)])) return;
+  for (int step = sel.chosen + 1; step < static_cast<int>(sel.path.size()); ++step)
+    if (positive(sel.path[static_cast<std::size_t>(step)])) {
+      sel.rule += "; a22 <= 0 inside the data at that step: the first sparser step with a22 > 0 there (step " +
+                  std::to_string(step) + ")";
+      sel.chosen = step;
+      return;
+    }
+  // the path dropped the constant on its way: the constant diffusion (and the kept terms)
+  std::vector<int> constant;
+  for (int j = 0; j < K; ++j)
+    if (psi.term(j) == Term::monomial(0) || keep[static_cast<std::size_t>(j)]) constant.push_back(j);
+  if (constant.empty()) return;  // none: identify-vehs refuses the model
+  const SupportFit f = fit_support(total, constant);
+  if (!positive(f)) return;
+  sel.path.push_back(f);
+  sel.chosen = static_cast<int>(sel.path.size()) - 1;
+  sel.rule += "; a22 <= 0 inside the data at that step and every sparser one: the constant diffusion";
 }
 
 /// The diffusion selection from the per-fold residual statistics (the noisy estimator's sensor
@@ -344,17 +421,18 @@ struct DiffusionSelection {
 
 DiffusionSelection select_diffusion(const std::vector<DiffusionStats>& folds, const DiffusionSetup& ds,
                                     const Dictionaries& dict, const Pilot& pilot, Estimator est, double h,
-                                    SelectionOptions selection, DriftSelection& drift, Report& rep, FitInfo& fit,
-                                    const ResidualMoments* standardized) {
+                                    double known_s2, SelectionOptions selection, DriftSelection& drift, Report& rep,
+                                    FitInfo& fit, const ResidualMoments* standardized, const StateBox& box) {
   DiffusionSelection q;
   q.residuals = folds[0].mom;
   for (std::size_t f = 1; f < folds.size(); ++f) q.residuals.add(folds[f].mom);
   if (est == Estimator::Noisy) {
     const std::size_t L = ds.lags.size();
     const ResidualMoments& m = standardized ? *standardized : q.residuals;
-    drift.s2 = set_sensor_noise(m.white_autocovariance(L - 2) - m.white_autocovariance(L - 1), h, drift.corr);
-    fit.sampling.sensor_noise_sd = std::sqrt(drift.s2);
+    const double c = m.white_autocovariance(L - 2) - m.white_autocovariance(L - 1);
+    drift.s2 = set_sensor_noise(std::max(c, known_s2 / (h * h * h * h)), h, drift.corr);
   }
+  fit.sampling.sensor_noise_sd = std::sqrt(drift.s2);
   std::vector<QuadraticStats> qfolds;
   for (const auto& s : folds) qfolds.push_back(s.quadratic());
   q.total = total_of(qfolds);
@@ -363,6 +441,7 @@ DiffusionSelection select_diffusion(const std::vector<DiffusionStats>& folds, co
   rep.diffusion_selection.dictionary = dict.psi.terms();
   selection.variance_factor = pilot.diffusion_lr;
   rep.diffusion_selection.selection = select_sparse(qfolds, all, dict.keep_psi, selection);
+  positive_step(rep.diffusion_selection.selection, q.total, dict.psi, dict.keep_psi, box);
   const SupportFit& chosen = chosen_fit(rep.diffusion_selection.selection);
   q.support = chosen.support;
   q.q = full_coefficients(chosen, dict.psi.size());
@@ -433,7 +512,9 @@ Result identify_terms(const Dataset& data, const Options& options) {
   lap("validate");
 
   const double dt = data.common_dt();
-  const SamplingStage sampling = sampling_stage({data, dict, dt, options.pilot_samples, known, shortest_record(data), dominant_omega_dt(data)}, options);
+  const SamplingStage sampling = sampling_stage(
+      {data, dict, dt, options.pilot_samples, known, shortest_record(data), dominant_omega_dt(data), find_quantisation(data)},
+      options);
   lap("pilot");
   const Pilot& pilot = sampling.pilot;
   const Pilot& diag = sampling.diag;
@@ -446,7 +527,7 @@ Result identify_terms(const Dataset& data, const Options& options) {
   fit.estimator = est;
   fit.stride = k;
   fit.sampling = {dt,          diag.k, diag.rho_1, diag.rho_k, diag.rho_2k, diag.rho_3k, diag.noise_share,
-                  sampling.decision.verdict, 0.0};
+                  sampling.decision.verdict, 0.0, sampling.known_s2 > 0.0 ? std::sqrt(12.0 * sampling.known_s2) : 0.0};
 
   const SsrRule rule = options.ssr_rule_set ? options.ssr_rule : est == Estimator::Paper ? SsrRule::AbsCoef : SsrRule::TRatio;
   const SelectionOptions selection{options.sparsity, rule, options.criterion, options.stlsq_threshold, 1.0};
@@ -464,18 +545,20 @@ Result identify_terms(const Dataset& data, const Options& options) {
   // out of the pilot's fits and the sampling rule (lens_mask.hpp; a y² diffusion's bursts into a
   // stiff wall pulled β 40×)
   if (central && pilot.masked) cx.lens = &pilot.lens;
-  auto dstats = drift_pass(cx, central, est == Estimator::Noisy, spans, F, &progress);
+  const bool noise_moments = est == Estimator::Noisy || sampling.known_s2 > 0.0;
+  auto dstats = drift_pass(cx, central, noise_moments, spans, F, &progress);
   if (cx.lens) {
     double kept = 0.0, left_out = 0.0;
     for (const auto& s : dstats) kept += s.n, left_out += s.left_out;
-    if (!mask_holds(kept, kept + left_out)) cx.lens = nullptr, dstats = drift_pass(cx, central, est == Estimator::Noisy, spans, F, nullptr);
+    if (!mask_holds(kept, kept + left_out)) cx.lens = nullptr, dstats = drift_pass(cx, central, noise_moments, spans, F, nullptr);
   }
   lap("drift_pass");
-  DriftSelection drift = select_drift(dstats, dict, pilot, est, kin.h, selection, rep);
+  DriftSelection drift = select_drift(dstats, dict, pilot, est, kin.h, sampling.known_s2, selection, rep);
 
   // pass 2: residuals of the selected drift -> weighted diffusion statistics per fold, selection
   const VectorXd c = full_coefficients(chosen_fit(rep.drift_selection.selection), dict.phi.size());
   DiffusionSetup ds = diffusion_setup(pilot, drift_model(dict.phi, drift.support, c), est, k);
+  if (est == Estimator::Uli) ds.uli_noise = 9.0 * sampling.known_s2 / (kin.h * kin.h * kin.h);
   ds.block_rows = score_batch_rows(options, central, k, rep.fit.rows,
                                    drift.support.size() + static_cast<std::size_t>(dict.psi.size()));
   const auto qstats = diffusion_pass(cx, ds, spans, F, &progress);
@@ -484,7 +567,8 @@ Result identify_terms(const Dataset& data, const Options& options) {
   std::optional<ResidualMoments> standardized;
   if (est == Estimator::Noisy && state_dependent(dict.psi)) standardized = standardized_moments(cx, ds, ds.w, spans);
   const DiffusionSelection diffusion =
-      select_diffusion(qstats, ds, dict, pilot, est, kin.h, selection, drift, rep, fit, standardized ? &*standardized : nullptr);
+      select_diffusion(qstats, ds, dict, pilot, est, kin.h, sampling.known_s2, selection, drift, rep, fit,
+                       standardized ? &*standardized : nullptr, state_box(data, pilot.v_sd));
 
   progress.finish();
   finish_terms(qstats, ds, dict, dstats, drift, diffusion, res);

@@ -208,6 +208,9 @@ std::optional<FitInfo> fit_from_json(const nlohmann::json& j, const std::string&
     d.rho_3k = optional_number(s, "rho_lag_3k", SamplingDiagnosis::kUnknown, w);
     d.noise_share = optional_number(s, "noise_share", SamplingDiagnosis::kUnknown, w);
     d.sensor_noise_sd = optional_number(s, "sensor_noise_sd", 0.0, w);
+    d.quantisation_step = optional_number(s, "quantisation_step", 0.0, w);
+    if (!(d.sensor_noise_sd >= 0.0)) throw Error(w + ".sensor_noise_sd must be >= 0");
+    if (!(d.quantisation_step >= 0.0)) throw Error(w + ".quantisation_step must be >= 0");
     if (s.contains("verdict")) {
       if (!s["verdict"].is_string()) throw Error(w + ".verdict must be a string");
       d.verdict = enum_from_string(kSamplingVerdictNames, s["verdict"].get<std::string>(), w + ".verdict");
@@ -235,6 +238,7 @@ void fit_to_json(const FitInfo& f, OJ& est, OJ& samp) {
   number("noise_share", d.noise_share);
   if (d.verdict != SamplingVerdict::Unknown) samp["verdict"] = enum_to_string(kSamplingVerdictNames, d.verdict);
   if (f.estimator == Estimator::Noisy || d.sensor_noise_sd > 0.0) samp["sensor_noise_sd"] = d.sensor_noise_sd;
+  if (d.quantisation_step > 0.0) samp["quantisation_step"] = d.quantisation_step;
 }
 
 OJ terms_to_json(const TermList& list) {

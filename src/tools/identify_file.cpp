@@ -39,7 +39,8 @@ J sampling_json(const FitInfo& fit) {
   J s;
   for (const char* key : {"dt", "pilot_stride", "rho_lag1", "rho_lag_k", "rho_lag_2k", "rho_lag_3k", "noise_share", "verdict"})
     s[key] = nullptr;
-  if (fit.estimator == Estimator::Noisy) s["sensor_noise_sd"] = nullptr;
+  if (fit.estimator == Estimator::Noisy || fit.sampling.sensor_noise_sd > 0.0) s["sensor_noise_sd"] = nullptr;
+  if (fit.sampling.quantisation_step > 0.0) s["quantisation_step"] = nullptr;
   s["explanation"] =
       "lag autocorrelations of ULI residuals on a pilot subsample: about 0 at lag k for data from "
       "an explicit scheme at the recorded step, +1/4 for a sensor sampling a continuous process; "

@@ -59,6 +59,7 @@ struct SamplingDiagnosis {
   double noise_share = kUnknown;  ///< η = 6 (ρ_2k − ρ_3k) (scheme-consistent: GLS over lags k, 2k), in [0, 1]
   SamplingVerdict verdict = SamplingVerdict::Unknown;
   double sensor_noise_sd = 0.0;  ///< white sensor noise s on x (estimated by the noisy estimator)
+  double quantisation_step = 0.0;  ///< q of the grid the values lie on (vehs/core/quantisation.hpp); 0: none
 };
 
 /// How a recorded input u is applied between its samples: held (a DAC), linear, cubic
