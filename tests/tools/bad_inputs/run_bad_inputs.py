@@ -238,6 +238,10 @@ def cases():
                  mentions=["mixed.csv"], files={"mixed.csv": csv_text(
                      [(0, 0.01 * i, 0.1 * ((i * 7) % 13 - 6)) for i in range(40)] +
                      [(1, 0.02 * i, 0.1 * ((i * 5) % 11 - 5)) for i in range(40)])}))
+        add(Case("the sampling interval halves inside a record", t, with_(t, data=["halved.csv"]),
+                 mentions=["halved.csv: line 42 (record traj=0): the sampling interval changes from 0.01 to 0.005"],
+                 files={"halved.csv": csv_text([(0, round(0.01 * min(i, 39) + 0.005 * max(i - 39, 0), 4),
+                                                 0.1 * ((i * 7) % 13 - 6)) for i in range(80)])}))
         add(Case("config key given twice", t, raw=json.dumps(BASE[t])[:-1] + ', "output": "other.json"}',
                  mentions=["output"]))
 
