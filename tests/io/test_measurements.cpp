@@ -144,6 +144,9 @@ TEST_CASE("bad measurement files give one-line errors naming file, record and li
     CHECK_THAT(err("b16.csv", changed), Catch::Contains("b16.csv: line 42: the sampling interval changes from 0.05 to " +
                                                         std::string(factor < 1.0 ? "0.025" : "0.1")));
   }
+  // a NUL inside a value is shown escaped (was: the message ended at the NUL)
+  CHECK_THAT(err("b17.csv", std::string("t,x\n0,1\n0.1,2\0\n0.2,3\n", 21)),
+             Catch::EndsWith("b17.csv: line 3: column 'x': '2\\x00' is not a number"));
   // trailing empty fields (Silverbox's "V1,V2,") stay fine
   CHECK(err("b15.csv", "t,x,\n0,1,\n0.1,2,,\n0.2,3,\n").find("no error") == 0);
 }

@@ -212,10 +212,13 @@ def cases():
             "\n0,0.1,", "\n0,0.1,7,", 1),
         "data npy garbage": "\x93NUMPY\x01\x00\xff\xff{'descr': '<f8', 'fortran_order': False, 'shape': (99999999999,), }",
     }
+    bad_data["data NUL inside a value (shown escaped)"] = csv_text(
+        [(0, 0.01 * i, 0.1 * ((i * 7) % 13 - 6)) for i in range(30)]).replace("\n0,0.1,", "\n0,0.1,0.25\x00", 1)
     for t in ("identify-vehs", "diagnose-vehs"):
         for name, text in bad_data.items():
             fname = "bad.npy" if "npy" in name else "bad.csv"
-            add(Case(name, t, with_(t, data=[fname]), files={fname: text}, mentions=[fname]))
+            add(Case(name, t, with_(t, data=[fname]), files={fname: text},
+                     mentions=["'0.25\\x00" if "NUL inside" in name else fname]))
         add(Case("data is a NumPy .npz archive", t, with_(t, data=["arrays.npz"]), files={"arrays.npz": "PK\x03\x04" * 50},
                  mentions=["arrays.npz"]))
         add(Case("data is a directory", t, with_(t, data=["ddir"]), mentions=["ddir"],
