@@ -256,6 +256,12 @@ def cases():
     add(Case("keep_terms outside the library", "identify-vehs", with_("identify-vehs", keep_terms=["x^20"]),
              mentions=["keep_terms"]))
     add(Case("dt contradicting the time column", "identify-vehs", with_("identify-vehs", dt=0.5), mentions=["dt"]))
+    add(Case("se_block longer than the data allow", "identify-vehs", with_("identify-vehs", se_block=10000000),
+             mentions=["se_block = 10000000 is outside"]))
+    add(Case("se_block shorter than a feature block", "identify-vehs", with_("identify-vehs", se_block=1),
+             mentions=["se_block = 1 is outside"]))
+    add(Case("se_block within range: the model file states the batches used", "identify-vehs",
+             with_("identify-vehs", se_block=512), expect="ok", check=check_stderr_method))
     add(Case("stlsq_threshold without stlsq", "identify-vehs", with_("identify-vehs", stlsq_threshold=0.1),
              mentions=["stlsq_threshold"]))
     add(Case("ssr_rule with sparsity none", "identify-vehs", with_("identify-vehs", sparsity="none", ssr_rule="abs_coef"),
@@ -360,6 +366,12 @@ def cases():
     add(Case("SIGINT during a diagnosis with a report", "diagnose-vehs",
              with_("diagnose-vehs", replicates=20, suspects=True), expect=signal.SIGINT, signal_after=2.0))
     return out
+
+
+def check_stderr_method(d, out, err):
+    with open(os.path.join(d, "learned.json")) as f:
+        method = json.load(f)["fit"]["stderr_method"]
+    return [] if "rows on average (target 512 rows per batch" in method else [f"stderr_method: {method}"]
 
 
 def check_report(d, out, err):
