@@ -249,6 +249,10 @@ def cases():
                  mentions=["halved.csv: line 42 (record traj=0): the sampling interval changes from 0.01 to 0.005"],
                  files={"halved.csv": csv_text([(0, round(0.01 * min(i, 39) + 0.005 * max(i - 39, 0), 4),
                                                  0.1 * ((i * 7) % 13 - 6)) for i in range(80)])}))
+        add(Case("columns t and x name one column", t, with_(t, columns={"t": "x", "x": "x"}),
+                 mentions=["'columns.t' and 'columns.x' name the same column 'x'"]))
+        add(Case("columns t names x's default column", t, with_(t, columns={"t": "x"}),
+                 mentions=["'columns.t' names the column 'x', which is x's by default"]))
         add(Case("config key given twice", t, raw=json.dumps(BASE[t])[:-1] + ', "output": "other.json"}',
                  mentions=["output"]))
 
