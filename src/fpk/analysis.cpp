@@ -82,7 +82,7 @@ void analyse_density(const FpkModel& model, StationaryResult& r) {
   r.marginal_x.assign(static_cast<std::size_t>(nx), 0.0);
   r.marginal_y.assign(static_cast<std::size_t>(ny), 0.0);
   Moments m;
-  double bx = 0.0, by = 0.0, ring = 0.0;
+  double bx = 0.0, by = 0.0, ring = 0.0, undershoot = 0.0;
   for (int i = 0; i < nx; ++i) {
     const double x = g.x.center(i);
     for (int j = 0; j < ny; ++j) {
@@ -103,11 +103,12 @@ void analyse_density(const FpkModel& model, StationaryResult& r) {
       const bool edge_x = i == 0 || i == nx - 1, edge_y = j == 0 || j == ny - 1;
       if (edge_x) bx += w;
       if (edge_y) by += w;
-      if (edge_x || edge_y) ring += w;
+      if (edge_x || edge_y) (w > 0.0 ? ring : undershoot) += w;
     }
   }
   r.moments = m;
   r.boundary_mass = ring;
+  r.boundary_undershoot = undershoot;
   r.boundary_mass_x = bx;
   r.boundary_mass_y = by;
   Identities& id = r.identities;
@@ -279,7 +280,7 @@ StationaryResult solve_on(const FpkModel& model, const GridRequest& request, Gri
                   " iterations on " + std::to_string(grid.x.n) + "x" + std::to_string(grid.y.n) +
                   " cells (raise max_iterations or use the direct solver)");
     const std::string cells = std::to_string(grid.x.n) + "x" + std::to_string(grid.y.n) + " cells";
-    if (std::abs(res.boundary_mass) <= tol) {
+    if (std::abs(res.boundary_signed_mass()) <= tol) {
       if (res.summary.negative_mass < -kMaxUndershoot)
         throw Unresolved{"the solution undershoots (negative density of total mass " +
                          num(res.summary.negative_mass) + " on " + cells + ")"};
@@ -305,16 +306,16 @@ StationaryResult solve_on(const FpkModel& model, const GridRequest& request, Gri
                   "boundary_mass_tolerance");
     // an enlarged domain with coarser cells that keeps as much mass on its boundary: the
     // boundary mass is discretisation error, not tails
-    if (previous >= 0.0 && std::abs(res.boundary_mass) > 0.5 * previous)
-      throw Unresolved{num(res.boundary_mass) + " of the mass stays on the boundary of " + cells +
+    if (previous >= 0.0 && std::abs(res.boundary_signed_mass()) > 0.5 * previous)
+      throw Unresolved{num(res.boundary_signed_mass()) + " of the mass stays on the boundary of " + cells +
                        " when the automatic domain is enlarged"};
-    if (attempt >= max_enlargements && res.boundary_mass < 0.0)  // oscillations, not tails
-      throw Unresolved{"negative density on the domain's edges (boundary mass " + num(res.boundary_mass) + " on " +
+    if (attempt >= max_enlargements && res.boundary_signed_mass() < 0.0)  // oscillations, not tails
+      throw Unresolved{"negative density on the domain's edges (boundary mass " + num(res.boundary_signed_mass()) + " on " +
                        cells + ")"};
     if (attempt >= max_enlargements)
-      throw Error(model.where() + ": " + num(res.boundary_mass) + " of the mass stays on the boundary after " +
+      throw Error(model.where() + ": " + num(res.boundary_signed_mass()) + " of the mass stays on the boundary after " +
                   std::to_string(max_enlargements) + " enlargements of the automatic domain (heavy tails?)");
-    previous = std::abs(res.boundary_mass);
+    previous = std::abs(res.boundary_signed_mass());
     DomainOptions wider = domain;
     wider.log_density_drop = domain.log_density_drop + 8.0 * (attempt + 1);
     const Grid a = automatic_domain(model, grid.x.n, grid.y.n, wider);

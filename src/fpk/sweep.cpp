@@ -178,7 +178,7 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
           // under-resolved and leak mass to the edges although the point is fine on its own
           // automatic domain (same cell counts), where it is solved again.
           const bool automatic = request.auto_x || request.auto_y;
-          if (automatic && (std::abs(r.boundary_mass) > tol || r.summary.negative_mass < -1e-3)) {
+          if (automatic && (std::abs(r.boundary_signed_mass()) > tol || r.summary.negative_mass < -1e-3)) {
             r = solve_with_domain(fm, request, options, domain);
             pt.own_domain = true;
           }
@@ -187,8 +187,8 @@ SweepResult sweep(const Model& base, const std::vector<SweepAxis>& axes, const G
           pt.boundary_mass = r.boundary_mass;
           pt.residual = r.summary.residual;
           pt.wells = r.wells;
-          if (std::abs(r.boundary_mass) > tol)
-            pt.error = "boundary mass " + std::to_string(r.boundary_mass) + " exceeds " +
+          if (std::abs(r.boundary_signed_mass()) > tol)
+            pt.error = "boundary mass " + std::to_string(r.boundary_signed_mass()) + " exceeds " +
                        std::to_string(tol) + " (enlarge the grid)";
           else if (r.summary.negative_mass < -1e-3)
             pt.error = "negative density of total mass " + std::to_string(r.summary.negative_mass) +

@@ -184,10 +184,17 @@ Pilot explained_stride_pilot(const PilotInputs& in, const Pilot& start) {
 // ----------------------------------------------------------------------- the diffusion pass
 
 /// Rows per batch of the batch-means covariance: long against the residual correlation range,
-/// and at least ~30 batches per estimated parameter (a multiple of the feature block).
+/// and at least ~30 batches per estimated parameter (a multiple of the feature block). A given
+/// se_block must be a feature block or more and leave 30 batches, none longer than a fold.
 int score_batch_rows(const Options& options, bool central, int k, std::size_t rows, std::size_t params) {
   const std::size_t corr_len = central ? 3 * static_cast<std::size_t>(k) : 2;
   params = std::max<std::size_t>(1, params);
+  const std::size_t block = kBlockRows, most = rows / std::max<std::size_t>(30, static_cast<std::size_t>(options.folds));
+  if (options.se_block > 0 && (options.se_block < block || options.se_block > most))
+    throw Error("se_block = " + std::to_string(options.se_block) + " is outside its range for these data: 0 (automatic)" +
+                (most < block ? std::string() : " or " + std::to_string(block) + " to " + std::to_string(most)) +
+                " rows (at least one feature block of " + std::to_string(block) + " rows, at most the " +
+                std::to_string(rows) + " rows fitted / max(30 batches, folds))");
   std::size_t L = options.se_block > 0 ? options.se_block : std::max<std::size_t>(1024, 50 * corr_len);
   if (options.se_block == 0 && rows / L < 30 * params)
     L = std::max<std::size_t>(10 * corr_len + 10, rows / (30 * params));

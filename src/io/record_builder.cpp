@@ -27,7 +27,7 @@ bool RecordBuilder::id_changed(const Row& r) const { return c_.traj && any_id_ &
 
 void RecordBuilder::row(const Row& r) {
   if (id_changed(r)) {
-    prev_gap_step_ = 0.0;
+    prev_off_step_ = 0.0;
     close(false);
     in_missing_run_ = false;
     after_split_ = false;
@@ -54,13 +54,8 @@ void RecordBuilder::row(const Row& r) {
                     " is given (remove dt to use the time column, or resample the data)");
       ref_dt_ = o_.dt > 0.0 ? o_.dt : step;
     }
+    check_interval_change(r, step);
     if (step > kGapSteps * ref_dt_) {
-      // two "gaps" of one size in a row: the data are sampled at another interval from here
-      // (a record at 2 ms after records at 1 ms would otherwise be cut into single samples and dropped)
-      if (prev_gap_step_ > 0.0 && std::abs(step - prev_gap_step_) <= o_.jitter_tolerance * step)
-        throw Error(where(r.line) + ": the sampling interval changes from " + fmt(ref_dt_) + " to " + fmt(step) +
-                    " (all records must share one sampling interval: resample, or fit the parts separately)");
-      prev_gap_step_ = step;
       if (o_.on_gap == GapPolicy::Fail)
         throw Error(where(r.line) + ": a gap in the time column: step " + fmt(step) + " after " +
                     fmt(last_t_) + " is " + fmt(step / ref_dt_) +
@@ -70,8 +65,6 @@ void RecordBuilder::row(const Row& r) {
         first_problem_ = std::string(line_word_) + " " + std::to_string(r.line) + ": a gap of " + fmt(step / ref_dt_) +
                          " sampling intervals";
       close(true);
-    } else {
-      prev_gap_step_ = 0.0;
     }
   }
   if (!open_) start(r);
@@ -84,6 +77,24 @@ void RecordBuilder::row(const Row& r) {
   d_.x.push_back(r.x);
   if (c_.u) d_.u.push_back(r.u);
   if (c_.y) d_.y.push_back(r.y);
+}
+
+void RecordBuilder::check_interval_change(const Row& r, double step) {
+  // a gap (longer than kGapSteps intervals) or a step that short and beyond the jitter tolerance
+  const bool off = step > kGapSteps * ref_dt_ ||
+                   (step * kGapSteps < ref_dt_ && ref_dt_ - step > o_.jitter_tolerance * ref_dt_);
+  if (!off) {
+    prev_off_step_ = 0.0;
+    return;
+  }
+  // two such steps of one size in a row: the data are sampled at another interval from the first
+  // of them (a record at 2 ms after records at 1 ms would otherwise be cut into single samples and
+  // dropped; one at 0.5 ms would be blamed on a jittering clock at some earlier line)
+  if (prev_off_step_ > 0.0 && std::abs(step - prev_off_step_) <= o_.jitter_tolerance * step)
+    throw Error(where(prev_off_line_) + ": the sampling interval changes from " + fmt(ref_dt_) + " to " +
+                fmt(prev_off_step_) + " (all records must share one sampling interval: resample, or fit the parts separately)");
+  prev_off_step_ = step;
+  prev_off_line_ = r.line;
 }
 
 void RecordBuilder::missing(const Row& r, const char* what) {

@@ -39,6 +39,8 @@ class RecordBuilder {
   void start(const Row& r);
   void close(bool split);
   void missing(const Row& r, const char* what);
+  /// Throws at the second of two equal steps off the interval (both gaps, or both too short).
+  void check_interval_change(const Row& r, double step);
   bool id_changed(const Row& r) const;
 
   Dataset& d_;
@@ -52,7 +54,8 @@ class RecordBuilder {
   long long last_id_ = 0;
   bool any_id_ = false;
   double last_t_ = 0.0, ref_dt_ = 0.0;
-  double prev_gap_step_ = 0.0;  ///< the previous step when it was a gap (0: it was not)
+  double prev_off_step_ = 0.0;  ///< the previous step when it was off the interval (0: it was not)
+  std::size_t prev_off_line_ = 0;
   double min_step_ = 0.0, max_step_ = 0.0;
   std::size_t min_line_ = 0, max_line_ = 0;
   std::set<long long> seen_;

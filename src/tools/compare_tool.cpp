@@ -11,6 +11,7 @@
 #include "vehs/core/error.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/core/parameters.hpp"
+#include "tools/file_kind.hpp"
 #include "tools/table.hpp"
 #include "vehs/io/json_file.hpp"
 #include "vehs/io/model_file.hpp"
@@ -77,6 +78,47 @@ std::string owner_of(const nlohmann::json& stats, const std::string& path, const
               (models.size() > 1 ? " (and than the truth and reported models)" : ""));
 }
 
+using Compared = std::vector<std::pair<std::string, const Model*>>;
+
+struct Statistics {
+  nlohmann::json values;
+  std::string owner;  ///< the label of the compared model it was computed for
+};
+
+/// The statistics file named by the config key `key` ("fpk", "monte_carlo"), refused unless the
+/// expected tool wrote it for one of `models` and its moments are numbers (checked before
+/// anything is printed).
+Statistics read_statistics(const Config& c, const std::string& key, FileKind expected, const Compared& models) {
+  const std::string path = c.string(key);
+  nlohmann::json j = read_json_file(path, expected == FileKind::FpkResult ? "FPK result" : "Monte Carlo statistics");
+  if (const FileKind kind = file_kind(j); kind != expected)
+    c.fail(key, "names " + path + ", " + describe(kind) + "; it takes " + describe(expected) + " (the file of its " +
+                    (expected == FileKind::FpkResult ? "'output'" : "'statistics.output'") + ")");
+  std::string owner = owner_of(j, path, c, models);
+  for (const char* k : {"E[X^2]", "E[Y^2]", "E[XY]"}) {
+    (void)stat(j, k, path);
+    if (j.contains("stderr") && j["stderr"].is_object() && j["stderr"].contains(k)) (void)stat(j["stderr"], k, path);
+  }
+  return {std::move(j), std::move(owner)};
+}
+
+/// The model file named by the config key `key`; a statistics file given instead is named as such.
+ModelFile read_model(const Config& c, const std::string& key) {
+  const std::string path = c.string(key);
+  try {
+    return read_model_file(path);
+  } catch (const Error&) {  // (only a file that failed is read again, to say what it is)
+    FileKind kind = FileKind::Other;
+    try {
+      kind = file_kind(read_json_file(path, "model"));
+    } catch (const Error&) {
+    }
+    if (kind == FileKind::FpkResult || kind == FileKind::MonteCarloStatistics)
+      c.fail(key, "names " + path + ", " + describe(kind) + "; it takes " + describe(FileKind::Model));
+    throw;
+  }
+}
+
 /// The model files' `units` sections must agree where both state them: the coefficients of a
 /// model in m and one in mm differ by powers of 1000 (a new user's comparison printed k3 off by
 /// +99 386 066 % with exit 0).
@@ -100,10 +142,10 @@ const ConfigSchema& compare_schema() {
 }
 
 int run_compare(Config& c, const AppOptions&) {
-  const ModelFile learned_file = read_model_file(c.string("learned"));
+  const ModelFile learned_file = read_model(c, "learned");
   auto checked_model = [&](const std::string& key) {  // a model the library would refuse is no table entry
     const std::string path = c.string(key);
-    ModelFile f = key == "learned" ? learned_file : read_model_file(path);
+    ModelFile f = key == "learned" ? learned_file : read_model(c, key);
     validate_model(f.model, path);
     if (key != "learned") require_same_units(c.string("learned"), learned_file, path, f);
     return f.model;
@@ -113,6 +155,14 @@ int run_compare(Config& c, const AppOptions&) {
   if (c.has("truth")) truth = checked_model("truth");
   if (c.has("reported")) reported = checked_model("reported");
   const std::string rlabel = c.string_or("reported_label", "paper");
+  // every input's kind and model before the first line of output
+  const Compared models = {
+      {"learned", &learned}, {"true", truth ? &*truth : nullptr}, {rlabel, reported ? &*reported : nullptr}};
+  Statistics fpk_file, mc_file;
+  if (c.has("fpk")) fpk_file = read_statistics(c, "fpk", FileKind::FpkResult, {models[0]});  // of the learned model
+  if (c.has("monte_carlo")) mc_file = read_statistics(c, "monte_carlo", FileKind::MonteCarloStatistics, models);
+  const nlohmann::json &fpk = fpk_file.values, &mc = mc_file.values;
+  const std::string& mc_owner = mc_file.owner;
 
   // union of parameter names, in the learned model's order, then the others
   std::vector<std::string> names;
@@ -172,18 +222,6 @@ int run_compare(Config& c, const AppOptions&) {
                 same_diffusion ? "exactly the true ones" : "differs from the truth");
   }
   if (c.has("fpk") || c.has("monte_carlo")) {
-    nlohmann::json fpk, mc;
-    const std::vector<std::pair<std::string, const Model*>> models = {
-        {"learned", &learned}, {"true", truth ? &*truth : nullptr}, {rlabel, reported ? &*reported : nullptr}};
-    std::string mc_owner;
-    if (c.has("fpk")) {
-      fpk = read_json_file(c.string("fpk"), "FPK result");
-      (void)owner_of(fpk, c.string("fpk"), c, {models[0]});  // an FPK file must solve the learned model
-    }
-    if (c.has("monte_carlo")) {
-      mc = read_json_file(c.string("monte_carlo"), "Monte Carlo statistics");
-      mc_owner = owner_of(mc, c.string("monte_carlo"), c, models);
-    }
     std::printf("\nStationary response of the learned model (mean power E(P) is proportional to E[Y^2]):\n");
     for (const char* key : {"E[X^2]", "E[Y^2]", "E[XY]"}) {
       std::printf("  %-7s", key);

@@ -95,15 +95,23 @@ J path_json(const SelectionReport& report) {
   return j;
 }
 
+/// The batches actually used: a batch ends at a fold or record boundary, so short records or
+/// many folds give shorter batches than the target.
+std::string stderr_method(const FitSummary& f) {
+  const auto batches = static_cast<long long>(f.stderr_batches);
+  const long long mean_rows = batches > 0 ? std::llround(static_cast<double>(f.rows) / f.stderr_batches) : 0;
+  return "sandwich of the joint drift/diffusion estimating equations; batch means over " + std::to_string(batches) +
+         " batches of " + std::to_string(mean_rows) + " rows on average (target " + std::to_string(f.stderr_batch_rows) +
+         " rows per batch; a batch ends at a fold or record boundary)";
+}
+
 J fit_json(const FitSummary& f) {
   J j = {{"rows", f.rows},
          {"rows_left_out", f.rows_left_out},
          {"drift_condition_full_library", f.drift_condition_full},
          {"drift_condition_selected", num_or_null(f.drift_condition_selected)},
          {"diffusion_condition_full_library", f.diffusion_condition_full},
-         {"stderr_method", "sandwich of the joint drift/diffusion estimating equations; batch means over " +
-                               std::to_string(static_cast<long long>(f.stderr_batches)) + " batches of about " +
-                               std::to_string(f.stderr_batch_rows) + " rows"}};
+         {"stderr_method", stderr_method(f)}};
   j["seconds"] = f.seconds;
   J t = J::object();
   for (const auto& [stage, seconds] : f.timings) t[stage] = seconds;

@@ -241,8 +241,11 @@ const ConfigSchema& identify_schema() {
            "most one per 100 samples of the data).", "10"},
           {"stlsq_threshold", "number", "STLSQ: |coef| threshold on the coefficients of the data scaled to O(1) by powers of ten (see units).", "0.05"},
           {"se_block", "integer",
-           "Rows per batch of the batch-means covariance behind the standard errors (0: "
-           "automatic, >= 1024 and >= 50x the residual correlation range).",
+           "Rows per batch of the batch-means covariance behind the standard errors: 0 (automatic: the longer "
+           "of 1024 rows and 50x the residual correlation range, shortened on short data to keep about 30 "
+           "batches per estimated parameter, never below 256) or 256 to the fitted rows / max(30, folds). "
+           "Rounded to a multiple of 256; a batch ends at a fold or record boundary. The model file's "
+           "fit.stderr_method states the batches used.",
            "0"},
           {"pilot_samples", "integer",
            "Rows of the pilot fits that diagnose the sampling and set the diffusion weights.",

@@ -3,6 +3,7 @@
 #include "tools/data_checks.hpp"
 
 #include <iostream>
+#include <utility>
 
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
@@ -49,6 +50,30 @@ std::vector<KeySpec> measurement_keys() {
   };
 }
 
+namespace {
+
+/// Two roles read from one column (t and x both "x": the time stamps would be the signal) are
+/// an error naming both keys; a default counts when that role is read (u only with a drive).
+void require_distinct_columns(const Config& col, const ReadOptions& r, bool need_u) {
+  const std::pair<const char*, const std::string*> roles[] = {
+      {"t", &r.t_column}, {"x", &r.x_column}, {"traj", &r.traj_column}, {"u", &r.u_column}};
+  const std::size_t n = need_u ? 4 : 3;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const auto& [a, name_a] = roles[i];
+      const auto& [b, name_b] = roles[j];
+      if (*name_a != *name_b || !(col.has(a) || col.has(b))) continue;
+      const std::string key_a = std::string("'columns.") + a + "'", key_b = std::string("'columns.") + b + "'";
+      if (col.has(a) && col.has(b))
+        throw Error(col.file() + ": " + key_a + " and " + key_b + " name the same column '" + *name_a + "'");
+      const auto& [given, other] = col.has(a) ? std::pair(key_a, b) : std::pair(key_b, a);
+      throw Error(col.file() + ": " + given + " names the column '" + *name_a + "', which is " + other +
+                  "'s by default (give " + other + "'s column as 'columns." + other + "')");
+    }
+}
+
+}  // namespace
+
 ReadOptions read_options(const Config& c, bool need_u) {
   ReadOptions r;
   if (c.has("columns")) {
@@ -60,6 +85,7 @@ ReadOptions read_options(const Config& c, bool need_u) {
       r.t_column = col.string_or("t", r.t_column);
       r.u_column = col.string_or("u", r.u_column);
       r.traj_column = col.string_or("traj", r.traj_column);
+      require_distinct_columns(col, r, need_u);
     }
   }
   r.mat_variable = c.string_or("mat_variable", "");

@@ -129,11 +129,24 @@ TEST_CASE("bad measurement files give one-line errors naming file, record and li
   std::string mixed = "traj,t,x\n";
   for (int i = 0; i < 20; ++i) mixed += "0," + std::to_string(0.01 * i) + "," + std::to_string(std::sin(i)) + "\n";
   for (int i = 0; i < 20; ++i) mixed += "1," + std::to_string(0.02 * i) + "," + std::to_string(std::sin(i)) + "\n";
-  CHECK_THAT(err("b11.csv", mixed), Catch::Contains("b11.csv: line 24 (record traj=1)") &&
+  CHECK_THAT(err("b11.csv", mixed), Catch::Contains("b11.csv: line 23 (record traj=1)") &&
                                         Catch::Contains("sampling interval changes from 0.01 to 0.02"));
   CHECK_THAT(err("b12.csv", "t,x\r0,1\r0.1,2\r0.2,3\r"), Catch::Contains("'\\r' alone"));
   CHECK_THAT(err("b13.csv", std::string("\xFF\xFEt\0,\0x\0\n\0", 10)), Catch::Contains("UTF-16"));
   CHECK_THAT(err("b14.npz", "PK\x03\x04"), Catch::Contains("b14.npz: .npz files are not read"));
+  // the interval halves (or doubles) inside one record: the line of the first step at the new
+  // interval (was, halving: "non-uniform sampling" at an earlier line, 0.05 against the mean)
+  for (const double factor : {0.5, 2.0}) {
+    std::string changed = "t,x\n";
+    double t = 0.0;
+    for (int i = 0; i < 80; ++i, t += i < 40 ? 0.05 : 0.05 * factor)
+      changed += std::to_string(t) + "," + std::to_string(std::sin(i)) + "\n";
+    CHECK_THAT(err("b16.csv", changed), Catch::Contains("b16.csv: line 42: the sampling interval changes from 0.05 to " +
+                                                        std::string(factor < 1.0 ? "0.025" : "0.1")));
+  }
+  // a NUL inside a value is shown escaped (was: the message ended at the NUL)
+  CHECK_THAT(err("b17.csv", std::string("t,x\n0,1\n0.1,2\0\n0.2,3\n", 21)),
+             Catch::EndsWith("b17.csv: line 3: column 'x': '2\\x00' is not a number"));
   // trailing empty fields (Silverbox's "V1,V2,") stay fine
   CHECK(err("b15.csv", "t,x,\n0,1,\n0.1,2,,\n0.2,3,\n").find("no error") == 0);
 }

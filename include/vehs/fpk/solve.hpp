@@ -127,9 +127,15 @@ struct StationaryResult {
   std::vector<double> marginal_y;  ///< p(y_j) = Σ_i p_ij hx
   Moments moments;
   Identities identities;
-  double boundary_mass = 0.0;      ///< mass in the outermost ring of cells
-  double boundary_mass_x = 0.0;    ///< … in the first/last columns in x
-  double boundary_mass_y = 0.0;    ///< … in the first/last rows in y
+  /// Probability mass in the outermost ring of cells: Σ max(p, 0)·area (≥ 0; the central
+  /// scheme's undershoot there, ±1e-9 where the density has vanished, is boundary_undershoot).
+  double boundary_mass = 0.0;
+  double boundary_undershoot = 0.0;  ///< Σ min(p, 0)·area over the ring (≤ 0)
+  double boundary_mass_x = 0.0;      ///< signed Σ p·area in the first/last columns in x
+  double boundary_mass_y = 0.0;      ///< … in the first/last rows in y
+  /// Signed Σ p·area over the ring: what the domain control tests (an undershoot on the edges
+  /// is an edge error as well as mass).
+  double boundary_signed_mass() const { return boundary_mass + boundary_undershoot; }
   std::vector<Well> wells;
   SolveSummary summary;
   bool auto_domain = false;

@@ -20,7 +20,7 @@ struct SweepPoint {
   std::vector<double> parameters;  ///< one value per sweep axis
   Moments moments;
   Identities identities;
-  double boundary_mass = 0.0;
+  double boundary_mass = 0.0;      ///< StationaryResult::boundary_mass (≥ 0)
   double residual = 0.0;
   std::vector<Well> wells;
   /// Solved on its own automatic domain (same cell counts) because the shared grid did not

@@ -28,6 +28,10 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 MODEL = {"drift": {"x": -1.0, "x^3": 7.7, "x^5": -16.3, "x^7": 12.5, "x^9": -3.1, "y": -0.1},
          "diffusion": {"1": 0.02, "x^2": 0.01}}
 OTHER_MODEL = {"drift": {"x": -1.0, "x^3": -1.0, "y": -0.2}, "diffusion": {"1": 0.05}}
+# the top-level keys fpk-stationary's output and simulate-vehs's statistics always carry
+# (docs/outputs.md): vehs-compare tells the two apart by them
+FPK_KEYS = {"E[X^2]": 0.1, "E[Y^2]": 0.2, "E[XY]": 0.0, "boundary_mass": 0.0, "solve": {"solver": "direct"}}
+MC_KEYS = {"E[X^2]": 0.7, "E[Y^2]": 0.2, "E[XY]": 0.0, "stderr": {}, "simulation": {"scheme": "paper"}}
 
 BASE = {
     "simulate-vehs": {"model": "model.json", "trajectories": 2, "duration": 5, "dt": 0.01,
@@ -42,9 +46,9 @@ TOOLS = list(BASE)
 
 
 class Case:
-    """One command. expect: "error" (the default: one-line error, nothing written), "ok" (status 0;
-    `check(folder, stdout, stderr)` returns problems) or a signal sent after `signal_after` s
-    (status 128 + signal, nothing written)."""
+    """One command. expect: "error" (the default: one-line error, nothing written), "ok" (status 0)
+    or a signal sent after `signal_after` s (status 128 + signal, nothing written); a
+    `check(folder, stdout, stderr)` returns further problems (with "error": before the folder goes)."""
     def __init__(self, name, tool, config=None, raw=None, args=(), files=None, mentions=(), setup=None,
                  config_name="cfg.json", expect="error", check=None, signal_after=1.0, owner=""):
         self.name, self.tool, self.config, self.raw = name, tool, config, raw
@@ -212,10 +216,13 @@ def cases():
             "\n0,0.1,", "\n0,0.1,7,", 1),
         "data npy garbage": "\x93NUMPY\x01\x00\xff\xff{'descr': '<f8', 'fortran_order': False, 'shape': (99999999999,), }",
     }
+    bad_data["data NUL inside a value (shown escaped)"] = csv_text(
+        [(0, 0.01 * i, 0.1 * ((i * 7) % 13 - 6)) for i in range(30)]).replace("\n0,0.1,", "\n0,0.1,0.25\x00", 1)
     for t in ("identify-vehs", "diagnose-vehs"):
         for name, text in bad_data.items():
             fname = "bad.npy" if "npy" in name else "bad.csv"
-            add(Case(name, t, with_(t, data=[fname]), files={fname: text}, mentions=[fname]))
+            add(Case(name, t, with_(t, data=[fname]), files={fname: text},
+                     mentions=["'0.25\\x00" if "NUL inside" in name else fname]))
         add(Case("data is a NumPy .npz archive", t, with_(t, data=["arrays.npz"]), files={"arrays.npz": "PK\x03\x04" * 50},
                  mentions=["arrays.npz"]))
         add(Case("data is a directory", t, with_(t, data=["ddir"]), mentions=["ddir"],
@@ -238,6 +245,14 @@ def cases():
                  mentions=["mixed.csv"], files={"mixed.csv": csv_text(
                      [(0, 0.01 * i, 0.1 * ((i * 7) % 13 - 6)) for i in range(40)] +
                      [(1, 0.02 * i, 0.1 * ((i * 5) % 11 - 5)) for i in range(40)])}))
+        add(Case("the sampling interval halves inside a record", t, with_(t, data=["halved.csv"]),
+                 mentions=["halved.csv: line 42 (record traj=0): the sampling interval changes from 0.01 to 0.005"],
+                 files={"halved.csv": csv_text([(0, round(0.01 * min(i, 39) + 0.005 * max(i - 39, 0), 4),
+                                                 0.1 * ((i * 7) % 13 - 6)) for i in range(80)])}))
+        add(Case("columns t and x name one column", t, with_(t, columns={"t": "x", "x": "x"}),
+                 mentions=["'columns.t' and 'columns.x' name the same column 'x'"]))
+        add(Case("columns t names x's default column", t, with_(t, columns={"t": "x"}),
+                 mentions=["'columns.t' names the column 'x', which is x's by default"]))
         add(Case("config key given twice", t, raw=json.dumps(BASE[t])[:-1] + ', "output": "other.json"}',
                  mentions=["output"]))
 
@@ -245,6 +260,12 @@ def cases():
     add(Case("keep_terms outside the library", "identify-vehs", with_("identify-vehs", keep_terms=["x^20"]),
              mentions=["keep_terms"]))
     add(Case("dt contradicting the time column", "identify-vehs", with_("identify-vehs", dt=0.5), mentions=["dt"]))
+    add(Case("se_block longer than the data allow", "identify-vehs", with_("identify-vehs", se_block=10000000),
+             mentions=["se_block = 10000000 is outside"]))
+    add(Case("se_block shorter than a feature block", "identify-vehs", with_("identify-vehs", se_block=1),
+             mentions=["se_block = 1 is outside"]))
+    add(Case("se_block within range: the model file states the batches used", "identify-vehs",
+             with_("identify-vehs", se_block=512), expect="ok", check=check_stderr_method))
     add(Case("stlsq_threshold without stlsq", "identify-vehs", with_("identify-vehs", stlsq_threshold=0.1),
              mentions=["stlsq_threshold"]))
     add(Case("ssr_rule with sparsity none", "identify-vehs", with_("identify-vehs", sparsity="none", ssr_rule="abs_coef"),
@@ -270,14 +291,30 @@ def cases():
     add(Case("fpk sweep all points failing", "fpk-stationary",
              with_("fpk-stationary", sweep={"2D": [-0.03, -0.01, 3]}), mentions=["sweep", "2D"]))
     add(Case("compare: fpk of another model", "vehs-compare", with_("vehs-compare", fpk="fpk_other.json"),
-             files={"fpk_other.json": json.dumps({"E[X^2]": 0.1, "E[Y^2]": 0.2, "E[XY]": 0.0, "model": OTHER_MODEL})},
+             files={"fpk_other.json": json.dumps(dict(FPK_KEYS, model=OTHER_MODEL))},
              mentions=["fpk_other.json"]))
     add(Case("compare: fpk without a model", "vehs-compare", with_("vehs-compare", fpk="fpk_nomodel.json"),
-             files={"fpk_nomodel.json": json.dumps({"E[X^2]": 0.1, "E[Y^2]": 0.2, "E[XY]": 0.0})},
+             files={"fpk_nomodel.json": json.dumps(FPK_KEYS)},
              mentions=["fpk_nomodel.json"]))
+    # every input's kind is checked before anything is printed (a model given as 'fpk' printed the
+    # whole parameter table, then failed; fpk-stationary's output given as 'monte_carlo' was
+    # printed as "Monte Carlo 0.89 (no standard error)" with exit 0)
+    add(Case("compare: a model file as fpk", "vehs-compare", with_("vehs-compare", fpk="model.json"),
+             mentions=["'fpk' names model.json, a model file"],
+             check=lambda d, out, err: ["printed to stdout before failing"] if out.strip() else []))
+    add(Case("compare: fpk-stationary's output as monte_carlo", "vehs-compare",
+             with_("vehs-compare", monte_carlo="fpk.json"), files={"fpk.json": json.dumps(dict(FPK_KEYS, model=MODEL))},
+             mentions=["'monte_carlo' names fpk.json, fpk-stationary's output"],
+             check=lambda d, out, err: ["printed to stdout before failing"] if out.strip() else []))
+    add(Case("compare: fpk-stationary's output as learned", "vehs-compare",
+             with_("vehs-compare", learned="fpk.json"), files={"fpk.json": json.dumps(dict(FPK_KEYS, model=MODEL))},
+             mentions=["'learned' names fpk.json, fpk-stationary's output; it takes a model file"]))
+    add(Case("compare: Monte Carlo statistics as fpk", "vehs-compare",
+             with_("vehs-compare", fpk="mc.json"), files={"mc.json": json.dumps(dict(MC_KEYS, model=MODEL))},
+             mentions=["'fpk' names mc.json, simulate-vehs's Monte Carlo statistics"]))
     add(Case("compare: statistics with null stderr and null value", "vehs-compare",
              with_("vehs-compare", monte_carlo="mc.json"),
-             files={"mc.json": json.dumps({"E[X^2]": None, "E[Y^2]": 0.2, "E[XY]": 0.0, "model": MODEL})},
+             files={"mc.json": json.dumps(dict(MC_KEYS, **{"E[X^2]": None}, model=MODEL))},
              mentions=["mc.json"]))
     for t in ("simulate-vehs",):
         add(Case("trajectories 1e12", t, with_(t, trajectories=10 ** 12), mentions=["trajectories", "memory"]))
@@ -316,7 +353,7 @@ def cases():
              check=check_report))
     add(Case("compare: Monte Carlo without standard errors never prints nan", "vehs-compare",
              with_("vehs-compare", monte_carlo="mc.json"),
-             files={"mc.json": json.dumps({"E[X^2]": 0.7, "E[Y^2]": 0.2, "E[XY]": 0.0, "model": MODEL})},
+             files={"mc.json": json.dumps(dict(MC_KEYS, model=MODEL))},
              expect="ok", check=lambda d, out, err: ["nan in the table"] if "nan" in out.lower() else []))
     add(Case("a 245-byte output name is written", "identify-vehs", with_("identify-vehs", output="n" * 240 + ".json"),
              expect="ok", check=lambda d, out, err: [] if os.path.exists(os.path.join(d, "n" * 240 + ".json"))
@@ -333,6 +370,12 @@ def cases():
     add(Case("SIGINT during a diagnosis with a report", "diagnose-vehs",
              with_("diagnose-vehs", replicates=20, suspects=True), expect=signal.SIGINT, signal_after=2.0))
     return out
+
+
+def check_stderr_method(d, out, err):
+    with open(os.path.join(d, "learned.json")) as f:
+        method = json.load(f)["fit"]["stderr_method"]
+    return [] if "rows on average (target 512 rows per batch" in method else [f"stderr_method: {method}"]
 
 
 def check_report(d, out, err):
@@ -488,6 +531,8 @@ def run_case(case, bindir, fixtures, workdir, timeout):
         problems.append(f"{len(lines)} lines on stderr")
     if case.mentions and rc != "timeout" and not any(m in err for m in case.mentions):
         problems.append("stderr names none of " + ", ".join(case.mentions))
+    if case.check and rc != "timeout":
+        problems += case.check(d, out, err)
     after = snapshot(d)
     changed = sorted(k for k in set(before) | set(after) if before.get(k) != after.get(k))
     if changed:
