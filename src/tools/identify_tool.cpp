@@ -379,6 +379,16 @@ std::string detrend_hint(const Dataset& data) {
   return "x's mean is " + g(std::abs(m) / sd) + " standard deviations from 0: \"detrend\": \"mean\" removes each record's offset";
 }
 
+/// Whether the likelihood refined the moment fit, and why (vehs/likelihood/adequacy.hpp).
+nlohmann::ordered_json adequacy_json(const Refinement& f) {
+  nlohmann::ordered_json j;
+  if (std::isfinite(f.adequacy.omega_dt)) j["omega_dt"] = f.adequacy.omega_dt;
+  j["vouched"] = f.adequacy.vouched;
+  j["likelihood"] = f.result ? "used" : "not used";
+  j["reason"] = f.adequacy.reason;
+  return j;
+}
+
 /// A variance rate cannot be negative where the data go: the fit's diffusion terms are not
 /// supported by the data (vehs/core/diffusion_in_data.hpp); the model is not written.
 void require_diffusion_in_data(const Model& m, const Dataset& data, const std::string& where) {
@@ -441,6 +451,7 @@ IdentifiedInMemory identify_in_memory(const Config& c, const Dataset& data, cons
       throw Error("identify: the fit puts " + why + ": the data do not support " + e.name() +
                   " as the catalogue defines it; " + where + " not written");
   out.sections = identify_report_sections(out.fit.result);
+  out.sections["estimator"]["sampling_adequacy"] = adequacy_json(out.fit.refinement);
   out.sections["fit"]["in_memory_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

@@ -12,15 +12,17 @@ using namespace vehs;
 
 namespace {
 
-Dataset slow_cosine(double dt) {
+Dataset cosine(double dt, double omega_dt) {
   Dataset d;
   Record r;
   r.dt = dt;
   r.size = 4000;
   d.records.push_back(r);
-  for (std::size_t k = 0; k < r.size; ++k) d.x.push_back(std::cos(0.05 * double(k)));
+  for (std::size_t k = 0; k < r.size; ++k) d.x.push_back(std::cos(omega_dt * double(k)));
   return d;
 }
+
+Dataset slow_cosine(double dt) { return cosine(dt, 0.05); }
 
 /// A bistable fit with β's relative SE 2 % and the sampling diagnosis given.
 Model fit_with(SamplingVerdict verdict, int stride) {
@@ -69,4 +71,17 @@ TEST_CASE("auto: a hidden state's moment fit stands only while 2·rate·Δt is b
     CHECK(likelihood::assess_sampling(m, slow_cosine(0.001)).vouched);
   }
   CHECK(likelihood::hidden_state_rate_dt(fit_with(SamplingVerdict::ContinuousTime, 1), 0.05) == 0.0);
+}
+
+TEST_CASE("auto: from 0.2 radians per sample the likelihood refines whatever the standard errors; "
+          "below, only a bias above the best relative SE", "[likelihood][adequacy]") {
+  Model m = fit_with(SamplingVerdict::ContinuousTime, 1);  // best relative SE 0.02
+  const likelihood::SamplingAdequacy coarse = likelihood::assess_sampling(m, cosine(0.05, 0.29));
+  CHECK(coarse.omega_dt == Approx(0.29).epsilon(1e-3));
+  CHECK(coarse.bias < 0.02);  // the former rule vouched here
+  CHECK_FALSE(coarse.vouched);
+  CHECK(likelihood::assess_sampling(m, cosine(0.05, 0.15)).vouched);  // bias 0.0019 < 0.02
+  m.drift_stderr = {{"x", 0.001}, {"x^3", 0.001}, {"y", 0.0001}};      // best relative SE 0.001
+  CHECK_FALSE(likelihood::assess_sampling(m, cosine(0.05, 0.15)).vouched);
+  CHECK(likelihood::assess_sampling(m, cosine(0.05, 0.05)).vouched);   // bias 2e-4 < 0.001
 }
