@@ -271,14 +271,8 @@ Eigen::MatrixXd internal_covariance(const Evaluator& ev, const FitState& st, con
 /// A moment fit can have a diffusion polynomial that turns negative inside the data's range
 /// (issue 12: 2Q < 0 at coarse sampling), where the filter cannot start. Then every
 /// non-constant diffusion term restarts at a tiny positive value (kept as a parameter) and the
-/// constant at the model's mean a22 over the data; a start that still fails is reported.
-void repair_start(ObservedModel& start, const Dataset& data, const FilterOptions& fo) {
-  try {
-    (void)log_likelihood(start, data, fo);
-    return;
-  } catch (const Error& e) {
-    if (std::string(e.what()).find("a22 < 0") == std::string::npos) throw;
-  }
+/// constant at the model's mean a22 over the data.
+void repair_diffusion(ObservedModel& start, const Dataset& data) {
   double mean = 0.0;
   for (double x : data.x) mean += std::max(start.model.a22(x, 0.0), 0.0);
   mean /= double(data.x.size());
@@ -295,6 +289,42 @@ void repair_start(ObservedModel& start, const Dataset& data, const FilterOptions
   if (!has_constant) {
     start.model.diffusion.push_back({Term::monomial(0, 0), mean});
     canonicalize(start.model.diffusion, "likelihood: start model");
+  }
+}
+
+/// Removes the drift terms of degree above 3 that are not kept; false when there were none.
+bool drop_high_degree_drift(ObservedModel& start, const std::vector<Term>& keep) {
+  TermList& d = start.model.drift;
+  const auto high = [&](const TermCoef& tc) {
+    return tc.term.is_polynomial() && tc.term.px + tc.term.py > 3 && std::find(keep.begin(), keep.end(), tc.term) == keep.end();
+  };
+  const std::size_t before = d.size();
+  d.erase(std::remove_if(d.begin(), d.end(), high), d.end());
+  return d.size() != before;
+}
+
+/// The start the filter can run: a negative diffusion repaired (repair_diffusion); a drift whose
+/// filter diverges at the data — a moment fit at coarse sampling or under heavy sensor noise
+/// with x⁵ … x¹⁰ in place of x³ (a second outside tester: ω·Δt 0.2, and 5 % noise at 0.05) —
+/// restarted without its terms of degree above 3 (the selection's forward steps add back what
+/// the data need). A start that still fails is reported.
+void repair_start(ObservedModel& start, const Dataset& data, const RefineOptions& o) {
+  bool diffusion_repaired = false;
+  for (;;) {
+    try {
+      (void)log_likelihood(start, data, o.filter);
+      return;
+    } catch (const Error& e) {
+      const std::string what = e.what();
+      if (!diffusion_repaired && what.find("a22 < 0") != std::string::npos) {
+        repair_diffusion(start, data);
+        diffusion_repaired = true;
+      } else if (drop_high_degree_drift(start, o.keep_drift)) {
+        if (o.log) o.log("likelihood: the start's filter diverges (" + what + "); restarted without its drift terms of degree > 3");
+      } else {
+        throw;
+      }
+    }
   }
 }
 
@@ -404,7 +434,7 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
                                                               : 0.01 * std::sqrt(detail::x_variance(data));
     if (!(first.measurement_sd > 0.0)) throw Error("likelihood: the records have zero variance");
   }
-  repair_start(first, data, options.filter);
+  repair_start(first, data, options);
   if (options.per_record_phase) detail::scan_record_phases(first, data, options.filter, choice);
   if (options.estimate_measurement_noise && !(start.measurement_sd > 0.0) && !(options.measurement_sd_start > 0.0))
     first.measurement_sd = detail::measurement_sd_start(first, data, options.filter, options.per_record_phase);

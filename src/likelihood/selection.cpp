@@ -90,6 +90,7 @@ Result select_support(const ObservedModel& start, const Dataset& data, const Ref
   RefineOptions near = o;
   near.warm_start_samples = std::numeric_limits<std::size_t>::max();
   std::vector<SelectionStep> steps;
+  if (!o.candidate_drift.empty() || !o.candidate_diffusion.empty()) current = add_terms(std::move(current), data, near, choice, steps);
   const double n = double(current.summary.observations);
   std::vector<std::string> unremovable;  // terms whose reduced model the filter cannot start
   for (;;) {

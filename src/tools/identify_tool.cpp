@@ -159,8 +159,12 @@ void print_refinement(const Refinement& f) {
   const auto& r = *f.result;
   std::printf("%s\n", r.summary.BriefReport().c_str());
   for (const auto& st : r.summary.selection)
-    std::printf("  selection: remove %-16s |z| %8.3g, 2 dlogL %10.4g vs %.3g: %s\n", st.removed.c_str(), st.z, st.delta,
-                st.threshold, st.accepted ? "removed" : "kept");
+    if (!st.added.empty())
+      std::printf("  selection: add    %-16s |z| %8.3g, 2 dlogL %10.4g vs %.3g: %s\n", st.added.c_str(), st.z, st.delta,
+                  st.threshold, st.accepted ? "added" : "not added");
+    else
+      std::printf("  selection: remove %-16s |z| %8.3g, 2 dlogL %10.4g vs %.3g: %s\n", st.removed.c_str(), st.z,
+                  st.delta, st.threshold, st.accepted ? "removed" : "kept");
   std::printf("log L %s, BIC %s; measurement_sd %s\n", g(r.log_likelihood, 10).c_str(), g(r.bic, 10).c_str(),
               g(r.model.measurement_sd, 4).c_str());
 }
@@ -414,6 +418,7 @@ IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressC
   o.progress = progress;
   LikelihoodSettings lik = likelihood_settings(c);
   lik.options.log = log;
+  if (lik.options.select) lik.options.candidate_drift = o.drift_library, lik.options.candidate_diffusion = o.diffusion_library;
   if (c.has("samples")) ranged = sample_range(c, loaded);
   const Dataset& data = ranged ? *ranged : loaded;
   // the default folds only feed the CV figures under the BIC criterion: fewer on small data

@@ -21,7 +21,7 @@ const char* const kLikelihoodHelp =
     "use (\"auto\", \"always\", \"never\"; default \"always\" when the block is given), input "
     "(how the recorded input is applied between samples: \"zoh\", \"linear\", \"cubic\", "
     "\"band_limited\"; carried in the model file and used by simulate-vehs and its validation), "
-    "select (true: backward elimination from the moment fit's support by the criterion), "
+    "select (true: forward steps by the score test over the drift and diffusion libraries, then backward elimination, by the criterion), "
     "criterion (\"bic\" or \"lr\": likelihood-ratio test at level lr_alpha, default 1e-3), "
     "covariance (standard errors: \"observed\" information, \"fisher\", \"sandwich\"), "
     "measurement_noise (true: estimate white sensor noise on x), per_record_phase (true: one "

@@ -35,7 +35,8 @@
 //                to a misspecified noise model; needs many batches).
 // On the natural scale by the delta method.
 //
-// Selection (Options::select): backward elimination from the start support. At each step the
+// Selection (Options::select): forward steps by the score test over candidate_drift /
+// candidate_diffusion (below), then backward elimination from the support reached. At each step the
 // free term (or the measurement noise) with the smallest |estimate/SE| is removed and the model
 // refitted; the removal is kept when BIC = −2 log L + k log n does not increase (or, with the
 // likelihood-ratio criterion, when 2ΔlogL is below the χ²₁ quantile at 1 − α; the measurement
@@ -86,6 +87,13 @@ struct RefineOptions {
   SelectionCriterion criterion = SelectionCriterion::Bic;
   double lr_alpha = 1e-3;
   std::vector<Term> keep_drift, keep_diffusion;
+  /// Terms the selection may ADD before eliminating (identify's libraries): forward steps by
+  /// the score test (score_test.hpp) at the current fit, the most significant term first, while
+  /// its z² and then the refit's 2ΔlogL pass the criterion (at most `max_added` terms). The
+  /// moment fit's support is only a start: white sensor noise of 5 % of std(x) made it drop the
+  /// damping y, which the likelihood's own standard errors put at 10 SE.
+  std::vector<Term> candidate_drift, candidate_diffusion;
+  int max_added = 4;
 
   int max_iterations = 20;            ///< Ceres iterations per whitening round
   int max_rounds = 20;                ///< whitening rounds
@@ -108,10 +116,11 @@ struct RefineOptions {
 };
 
 struct SelectionStep {
-  std::string removed;        ///< parameter name
-  double z = 0.0;             ///< |estimate/SE| before removal
-  double log_likelihood = 0.0;  ///< of the model without it
-  double delta = 0.0;         ///< 2 (log L_before − log L_after)
+  std::string removed;        ///< parameter name (a removal step)
+  std::string added;          ///< parameter name (a forward step; `removed` empty)
+  double z = 0.0;             ///< |estimate/SE| before removal; the score test's |z| before adding
+  double log_likelihood = 0.0;  ///< of the model without it (with it, for a forward step)
+  double delta = 0.0;         ///< 2 (log L_before − log L_after); 2 (log L_after − log L_before) when adding
   double threshold = 0.0;     ///< log n (BIC) or the χ² quantile (LR)
   bool accepted = false;
 };

@@ -19,6 +19,11 @@ void attach_stderrs(Result& res);
 Result select_support(const ObservedModel& start, const Dataset& data, const RefineOptions& o,
                       FitChoice choice);
 
+/// Forward steps from `current` (a fit of its support): the candidate term with the largest
+/// score-test z² (score_test.hpp) is added and the model refitted while z² and 2ΔlogL pass the
+/// criterion; each step is appended to `steps`.
+Result add_terms(Result current, const Dataset& data, const RefineOptions& o, const FitChoice& choice,
+                 std::vector<SelectionStep>& steps);
 /// Upper quantile of χ²₁: q with P(χ²₁ > q) = p.
 double chi2_1_upper_quantile(double p);
 

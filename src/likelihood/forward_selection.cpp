@@ -1,0 +1,103 @@
+// Forward steps of refine()'s selection (vehs/likelihood/refine.hpp: candidate_drift): the
+// score test of every candidate term at the current fit, in one derivative pass.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "vehs/core/error.hpp"
+#include "vehs/likelihood/detail/selection.hpp"
+#include "vehs/likelihood/score_test.hpp"
+
+namespace vehs::likelihood::detail {
+
+namespace {
+
+struct Candidate {
+  Term term;
+  bool drift = true;
+  std::string name() const { return std::string(drift ? "drift[" : "diffusion[") + term.name() + "]"; }
+};
+
+bool has_term(const TermList& list, const Term& t) {
+  return std::any_of(list.begin(), list.end(), [&](const TermCoef& tc) { return tc.term == t && tc.coef != 0.0; });
+}
+
+std::vector<Candidate> candidates(const Model& m, const RefineOptions& o) {
+  std::vector<Candidate> c;
+  for (const Term& t : o.candidate_drift)
+    if (!has_term(m.drift, t)) c.push_back({t, true});
+  for (const Term& t : o.candidate_diffusion)
+    if (!has_term(m.diffusion, t)) c.push_back({t, false});
+  return c;
+}
+
+/// `m` with the candidate's coefficient set to `value` (canonical order kept).
+ObservedModel with_term(ObservedModel m, const Candidate& c, double value) {
+  TermList& list = c.drift ? m.model.drift : m.model.diffusion;
+  list.erase(std::remove_if(list.begin(), list.end(), [&](const TermCoef& tc) { return tc.term == c.term; }), list.end());
+  list.push_back({c.term, value});
+  canonicalize(list, "likelihood forward step");
+  return m;
+}
+
+double threshold(const RefineOptions& o, double n) {
+  return o.criterion == SelectionCriterion::Bic ? std::log(n) : chi2_1_upper_quantile(o.lr_alpha);
+}
+
+void log_step(const RefineOptions& o, const SelectionStep& st) {
+  if (!o.log) return;
+  char line[256];
+  std::snprintf(line, sizeof line, "likelihood selection: add %s (score |z| %.3g): 2 dlogL %.4g vs %.4g: %s",
+                st.added.c_str(), st.z, st.delta, st.threshold, st.accepted ? "added" : "not added");
+  o.log(line);
+}
+
+}  // namespace
+
+Result add_terms(Result current, const Dataset& data, const RefineOptions& o, const FitChoice& choice,
+                 std::vector<SelectionStep>& steps) {
+  const double bar = threshold(o, double(current.summary.observations));
+  for (int added = 0; added < o.max_added; ++added) {
+    const std::vector<Candidate> cand = candidates(current.model.model, o);
+    if (cand.empty()) break;
+    ObservedModel probe = current.model;
+    std::vector<std::vector<std::string>> groups;
+    for (const Candidate& c : cand) probe = with_term(std::move(probe), c, 1e-300), groups.push_back({c.name()});
+    ScoreTestOptions so;
+    so.filter = o.filter;
+    so.estimate_measurement_noise = choice.fit_measurement_noise;
+    so.fixed = choice.fixed;
+    std::vector<ScoreTestResult> tests;
+    try {
+      tests = score_tests(probe, data, groups, so);
+    } catch (const Error& e) {
+      if (o.log) o.log(std::string("likelihood selection: no forward step (") + e.what() + ")");
+      break;
+    }
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < tests.size(); ++i)
+      if (std::abs(tests[i].z) > std::abs(tests[best].z)) best = i;
+    SelectionStep st;
+    st.added = cand[best].name();
+    st.z = std::abs(tests[best].z);
+    st.threshold = bar;
+    if (!(st.z * st.z > bar) || tests[best].estimate.empty() || !std::isfinite(tests[best].estimate[0])) break;
+    Result r;
+    try {
+      r = fit_support(with_term(current.model, cand[best], tests[best].estimate[0]), data, o, choice, false);
+    } catch (const Error& e) {
+      if (o.log) o.log("likelihood selection: cannot add " + st.added + " (" + e.what() + ")");
+      break;
+    }
+    st.log_likelihood = r.log_likelihood;
+    st.delta = 2.0 * (r.log_likelihood - current.log_likelihood);
+    st.accepted = st.delta > bar;
+    log_step(o, st);
+    steps.push_back(st);
+    if (!st.accepted) break;
+    current = std::move(r);
+  }
+  return current;
+}
+
+}  // namespace vehs::likelihood::detail

@@ -1,0 +1,70 @@
+// Forward steps of the likelihood's selection (vehs/likelihood/refine.hpp: candidate_drift;
+// src/likelihood/forward_selection.cpp) and the restart of a start whose filter diverges
+// (refine.cpp: repair_start). The bistable Duffing of issue 12 (β 0.1, 2D 0.04) at ω·Δt ≈ 0.5.
+// A second outside tester: 5 % sensor noise made the moment fit drop the damping y, which the
+// likelihood then only pruned; and moment fits with x⁵ … x¹⁰ in place of x³ made the filter
+// diverge at the start values, an error on legitimate data.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+
+#include "likelihood_fixtures.hpp"
+#include "vehs/likelihood/refine.hpp"
+
+using namespace vehs;
+using namespace vehs_lik_test;
+
+namespace {
+
+likelihood::RefineOptions forward_options() {
+  likelihood::RefineOptions o;
+  o.select = true;
+  o.criterion = likelihood::SelectionCriterion::LikelihoodRatio;
+  o.lr_alpha = 2e-6;
+  o.estimate_measurement_noise = false;
+  for (const char* t : {"x", "x^2", "x^3", "y", "x*y", "x^2*y"}) o.candidate_drift.push_back(Term::parse(t));
+  for (const char* t : {"1", "x^2"}) o.candidate_diffusion.push_back(Term::parse(t));
+  return o;
+}
+
+const std::vector<std::string> kTrueSupport = {"diffusion[1]", "drift[x]", "drift[x^3]", "drift[y]"};
+const std::map<std::string, double> kTruth = {
+    {"drift[x]", 1.0}, {"drift[x^3]", -1.0}, {"drift[y]", -0.1}, {"diffusion[1]", 0.04}};
+
+}  // namespace
+
+// False-failure probability per run ≤ 1e-4: two data sets, each ≤ 5e-5 = support (eight
+// candidate terms, each added with probability ≤ α = 2e-6 by the LR test; the true terms have
+// |z| > 10) + four parameters outside z_bound(4, 1e-5).
+TEST_CASE("a start without the damping: the forward step adds y by its score test", "[likelihood][selection]") {
+  const Model truth = bistable();
+  const Dataset d = simulate(truth, 0.35, 8, 1500.0, 611);
+  likelihood::ObservedModel start{truth, 0.0, {}};
+  start.model.drift.erase(std::remove_if(start.model.drift.begin(), start.model.drift.end(),
+                                         [](const TermCoef& tc) { return tc.term == Term::parse("y"); }),
+                          start.model.drift.end());
+  const likelihood::Result r = likelihood::refine(start, d, forward_options());
+  INFO(r.summary.FullReport());
+  CHECK(support(r) == kTrueSupport);
+  const bool added_y = std::any_of(r.summary.selection.begin(), r.summary.selection.end(),
+                                   [](const likelihood::SelectionStep& s) { return s.added == "drift[y]" && s.accepted; });
+  CHECK(added_y);
+  CHECK(against(r, kTruth).max_z <= z_bound(4, 1e-5));
+}
+
+TEST_CASE("a start whose filter diverges (x^5 > 0): restarted without terms of degree > 3",
+          "[likelihood][selection]") {
+  const Model truth = bistable();
+  const Dataset d = simulate(truth, 0.35, 8, 1500.0, 612);
+  likelihood::ObservedModel start{truth, 0.0, {}};
+  start.model.drift.push_back({Term::parse("x^5"), 0.5});
+  canonicalize(start.model.drift, "start");
+  likelihood::RefineOptions o = forward_options();
+  o.select = false;
+  CHECK_THROWS_WITH(likelihood::log_likelihood(start, d, o.filter), Catch::Contains("diverged"));
+  o.select = true;
+  const likelihood::Result r = likelihood::refine(start, d, o);
+  INFO(r.summary.FullReport());
+  CHECK(support(r) == kTrueSupport);
+  CHECK(against(r, kTruth).max_z <= z_bound(4, 1e-5));
+}
