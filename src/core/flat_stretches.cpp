@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "vehs/core/detail/clipped_runs.hpp"
 #include "vehs/core/drop_samples.hpp"
 
 namespace vehs {
@@ -24,6 +25,21 @@ std::size_t flagged_run(std::size_t n, std::size_t equal) {
   return std::max(kMinRun, static_cast<std::size_t>(std::ceil(L)));
 }
 
+/// The runs of one record longer than its own repeats explain, not at a clipped level.
+void append_long_runs(const double* x, const Record& rec, std::size_t k, std::size_t equal,
+                      const std::vector<FlatStretch>& clipped, std::vector<FlatStretch>& out) {
+  const auto at_clip = [&](double v) {
+    return std::any_of(clipped.begin(), clipped.end(), [&](const FlatStretch& c) { return c.x == v; });
+  };
+  const std::size_t bar = flagged_run(rec.size, equal);
+  for (std::size_t i = 0; i < rec.size;) {  // a second pass: storing the candidates would cost memory on quantised data
+    std::size_t j = i + 1;
+    while (j < rec.size && x[j] == x[i]) ++j;
+    if (j - i >= bar && !at_clip(x[i])) out.push_back({k, i, j - i, rec.first_line + i, x[i]});
+    i = j;
+  }
+}
+
 }  // namespace
 
 std::vector<FlatStretch> find_flat_stretches(const Dataset& data) {
@@ -41,14 +57,12 @@ std::vector<FlatStretch> find_flat_stretches(const Dataset& data) {
       i = j;
     }
     if (equal + 1 < kMinRun) continue;
-    if (double(in_short_runs) >= kQuantisedShare * double(rec.size - 1)) continue;  // quantised: not checked
-    const std::size_t bar = flagged_run(rec.size, equal);
-    for (std::size_t i = 0; i < rec.size;) {  // a second pass: storing the candidates would cost memory on quantised data
-      std::size_t j = i + 1;
-      while (j < rec.size && x[j] == x[i]) ++j;
-      if (j - i >= bar) out.push_back({k, i, j - i, rec.first_line + i, x[i]});
-      i = j;
-    }
+    std::vector<FlatStretch> found;
+    detail::append_clipped_runs(x, rec.size, k, rec.first_line, found);
+    if (double(in_short_runs) < kQuantisedShare * double(rec.size - 1))  // quantised: clipping only
+      append_long_runs(x, rec, k, equal, std::vector<FlatStretch>(found), found);
+    std::sort(found.begin(), found.end(), [](const FlatStretch& a, const FlatStretch& b) { return a.sample < b.sample; });
+    out.insert(out.end(), found.begin(), found.end());
   }
   return out;
 }
@@ -59,8 +73,8 @@ std::string describe_flat_stretches(const Dataset& data, const std::vector<FlatS
   for (std::size_t g = 0; g < stretches.size() && g < max_listed; ++g) {
     const FlatStretch& f = stretches[g];
     char buf[160];
-    std::snprintf(buf, sizeof buf, "lines %zu-%zu (%zu samples of x = %.6g)", f.line, f.line + f.length - 1, f.length,
-                  f.x);
+    std::snprintf(buf, sizeof buf, "lines %zu-%zu (%zu samples of x = %.6g%s)", f.line, f.line + f.length - 1, f.length,
+                  f.x, f.clipped ? ", the record's extreme value, piled up: clipped?" : "");
     const std::string& source = data.records[f.record].source;
     s += (g == 0 ? "" : ", ") +
          (g == 0 || source != data.records[stretches[g - 1].record].source ? source + ": " : "") + buf;

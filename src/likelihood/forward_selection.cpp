@@ -81,7 +81,15 @@ Result add_terms(Result current, const Dataset& data, const RefineOptions& o, co
     st.added = cand[best].name();
     st.z = std::abs(tests[best].z);
     st.threshold = bar;
-    if (!(st.z * st.z > bar) || tests[best].estimate.empty() || !std::isfinite(tests[best].estimate[0])) break;
+    if (!(st.z * st.z > bar) || tests[best].estimate.empty() || !std::isfinite(tests[best].estimate[0])) {
+      if (o.log) {
+        char line[200];
+        std::snprintf(line, sizeof line, "likelihood selection: nothing to add (largest score |z| %.3g, %s; bar %.3g)",
+                      st.z, st.added.c_str(), std::sqrt(bar));
+        o.log(line);
+      }
+      break;
+    }
     Result r;
     try {
       r = fit_support(with_term(current.model, cand[best], tests[best].estimate[0]), data, o, choice, false);

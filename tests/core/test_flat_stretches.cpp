@@ -74,3 +74,33 @@ TEST_CASE("drop_flat_stretches cuts the record around each stretch", "[core][fla
   CHECK(kept.x[300] == d.x[310]);
   CHECK(vehs::find_flat_stretches(kept).empty());
 }
+
+TEST_CASE("a clipped quantised record: every run at the piled-up extreme is flagged",
+          "[core][flat_stretches]") {
+  // a second outside tester's 10-bit Duffing at 20 kHz clipped at ±81 counts (0.9 % of the
+  // samples, runs up to 192, shorter than the record's natural runs): not seen before. Here
+  // 2 records of 40 time units (about 6 periods each), counts round(100 x) at dt 0.0002 (most
+  // consecutive samples equal: quantised) clipped at 80 % of the largest count.
+  vehs::Dataset d = oscillator(200000, 23, 2, 0.0002);
+  for (double& x : d.x) x = std::round(100.0 * x);
+  double top = 0.0;
+  for (double x : d.x) top = std::max(top, x);
+  const double clip = std::round(0.8 * top);
+  std::size_t clipped = 0;
+  for (double& x : d.x)
+    if (x >= clip) x = clip, ++clipped;
+  const auto flat = vehs::find_flat_stretches(d);
+  INFO("clip " << clip << ", clipped samples " << clipped);
+  REQUIRE(!flat.empty());
+  std::size_t covered = 0;
+  for (const auto& f : flat) {
+    CHECK(f.clipped);
+    CHECK(f.x == clip);
+    covered += f.length;
+  }
+  // a record is flagged when it visits its extreme in at least 3 runs: here one record holds
+  // 7238 of the 8218 clipped samples, the other (fewer visits) is not flagged
+  CHECK(covered <= clipped);
+  CHECK(double(covered) >= 0.8 * double(clipped));
+  CHECK(vehs::describe_flat_stretches(d, flat).find("clipped?") != std::string::npos);
+}

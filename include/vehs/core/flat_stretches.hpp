@@ -15,7 +15,9 @@
 // Silverbox: short-run share 3e-5, longest run 2): p = the share of consecutive pairs that are
 // equal (at least 1/N); if repeats were independent with that probability, a run of L equal
 // values would occur with probability about N·p^(L−1); a run is flagged when that is below 1e-9
-// and L ≥ 5. A dropout in a quantised record is therefore not caught.
+// and L ≥ 5. A dropout in a quantised record is therefore not caught. Clipping is caught in every
+// record by the pile-up of samples at its extreme value (vehs/core/detail/clipped_runs.hpp): every
+// run there is flagged, however short.
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -30,6 +32,7 @@ struct FlatStretch {
   std::size_t length = 0;  ///< samples
   std::size_t line = 0;    ///< line of its first sample in the file (record.first_line + sample)
   double x = 0.0;          ///< the repeated value
+  bool clipped = false;    ///< a run at a quantised record's piled-up extreme (detail/clipped_runs.hpp)
 };
 
 /// The flat stretches of every record (ascending record, sample).

@@ -1,0 +1,54 @@
+#include "vehs/core/detail/clipped_runs.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace vehs::detail {
+
+namespace {
+
+constexpr double kPileUp = 3.0;         ///< extreme level's samples over the next level's
+constexpr std::size_t kExcess = 30;     ///< and this many more
+constexpr std::size_t kMinRuns = 3;     ///< separate visits
+
+/// The runs at `level` when it is piled up against `inner` (the next value inwards).
+void runs_if_piled(const double* x, std::size_t n, double level, double inner, std::size_t record,
+                   std::size_t first_line, std::vector<FlatStretch>& out) {
+  std::size_t at = 0, next = 0, runs = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    at += x[i] == level;
+    next += x[i] == inner;
+    runs += x[i] == level && (i == 0 || x[i - 1] != level);
+  }
+  if (runs < kMinRuns || double(at) <= kPileUp * double(next) + double(kExcess)) return;
+  for (std::size_t i = 0; i < n;) {
+    if (x[i] != level) {
+      ++i;
+      continue;
+    }
+    std::size_t j = i + 1;
+    while (j < n && x[j] == level) ++j;
+    out.push_back({record, i, j - i, first_line + i, level, true});
+    i = j;
+  }
+}
+
+}  // namespace
+
+void append_clipped_runs(const double* x, std::size_t n, std::size_t record, std::size_t first_line,
+                         std::vector<FlatStretch>& out) {
+  if (n == 0) return;
+  const double hi = *std::max_element(x, x + n), lo = *std::min_element(x, x + n);
+  double below_hi = -std::numeric_limits<double>::infinity(), above_lo = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (x[i] < hi) below_hi = std::max(below_hi, x[i]);
+    if (x[i] > lo) above_lo = std::min(above_lo, x[i]);
+  }
+  const std::size_t before = out.size();
+  runs_if_piled(x, n, lo, above_lo, record, first_line, out);
+  runs_if_piled(x, n, hi, below_hi, record, first_line, out);
+  std::sort(out.begin() + static_cast<long>(before), out.end(),
+            [](const FlatStretch& a, const FlatStretch& b) { return a.sample < b.sample; });
+}
+
+}  // namespace vehs::detail
