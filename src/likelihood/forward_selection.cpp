@@ -1,16 +1,26 @@
 // Forward steps of refine()'s selection (vehs/likelihood/refine.hpp: candidate_drift): the
 // score test of every candidate term at the current fit, in one derivative pass.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
 #include "vehs/core/error.hpp"
+#include "vehs/likelihood/detail/data_share.hpp"
 #include "vehs/likelihood/detail/selection.hpp"
 #include "vehs/likelihood/score_test.hpp"
 
 namespace vehs::likelihood::detail {
 
 namespace {
+
+/// Score tests on at most this many samples: the pass differentiates in every candidate at once
+/// (12 candidates on 10⁶ samples: 14 s, more than the first fit). A candidate that passes the
+/// screen is decided by the refit's 2ΔlogL on all the data.
+constexpr double kScreenSamples = 2e5;
+/// The screen's bar on a share f of the data: a term at the full-data bar has z² ≈ f·bar there;
+/// never below z = 3 (a spurious pass costs one refit, with probability 0.27 % per candidate).
+double screen_bar(double bar, double share) { return share < 1.0 ? std::max(bar * share, 9.0) : bar; }
 
 struct Candidate {
   Term term;
@@ -57,6 +67,9 @@ void log_step(const RefineOptions& o, const SelectionStep& st) {
 Result add_terms(Result current, const Dataset& data, const RefineOptions& o, const FitChoice& choice,
                  std::vector<SelectionStep>& steps) {
   const double bar = threshold(o, double(current.summary.observations));
+  const double share = std::min(1.0, kScreenSamples / double(std::max<std::size_t>(current.summary.observations, 1)));
+  const Dataset sub = share < 1.0 ? warm_start_share(data, share, choice.per_record_phase) : Dataset{};
+  const Dataset& screen = share < 1.0 ? sub : data;
   for (int added = 0; added < o.max_added; ++added) {
     const std::vector<Candidate> cand = candidates(current.model.model, o);
     if (cand.empty()) break;
@@ -68,8 +81,9 @@ Result add_terms(Result current, const Dataset& data, const RefineOptions& o, co
     so.estimate_measurement_noise = choice.fit_measurement_noise;
     so.fixed = choice.fixed;
     std::vector<ScoreTestResult> tests;
+    const auto t0 = std::chrono::steady_clock::now();
     try {
-      tests = score_tests(probe, data, groups, so);
+      tests = score_tests(probe, screen, groups, so);
     } catch (const Error& e) {
       if (o.log) o.log(std::string("likelihood selection: no forward step (") + e.what() + ")");
       break;
@@ -81,11 +95,12 @@ Result add_terms(Result current, const Dataset& data, const RefineOptions& o, co
     st.added = cand[best].name();
     st.z = std::abs(tests[best].z);
     st.threshold = bar;
-    if (!(st.z * st.z > bar) || tests[best].estimate.empty() || !std::isfinite(tests[best].estimate[0])) {
+    if (!(st.z * st.z > screen_bar(bar, share)) || tests[best].estimate.empty() || !std::isfinite(tests[best].estimate[0])) {
       if (o.log) {
-        char line[200];
-        std::snprintf(line, sizeof line, "likelihood selection: nothing to add (largest score |z| %.3g, %s; bar %.3g)",
-                      st.z, st.added.c_str(), std::sqrt(bar));
+        char line[240];
+        std::snprintf(line, sizeof line, "likelihood selection: nothing to add (largest score |z| %.3g, %s; bar %.3g on %zu samples; %zu score tests in %.3g s)",
+                      st.z, st.added.c_str(), std::sqrt(screen_bar(bar, share)), tests.empty() ? std::size_t(0) : tests[0].observations, tests.size(),
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         o.log(line);
       }
       break;
