@@ -13,6 +13,7 @@
 
 #include <fast_float/fast_float.h>
 
+#include "vehs/io/detail/iso_time.hpp"
 #include "readers.hpp"
 #include "vehs/core/error.hpp"
 
@@ -87,6 +88,7 @@ class CsvParser {
     if (is_comment_or_blank(text)) return;
     if (!rb_) return header(text);
     split(text, delimiter_, fields_);
+    if (!rows_seen_++ && units_row()) return;
     if (static_cast<int>(fields_.size()) <= need_)
       throw Error(path_ + ": line " + std::to_string(line_no_) + ": has " + std::to_string(fields_.size()) +
                   " fields, expected " + std::to_string(ncols_));
@@ -103,7 +105,7 @@ class CsvParser {
                     std::string(trim(fields_[static_cast<std::size_t>(idx_.traj)])) + "' is not an integer");
       r.id = static_cast<long long>(v);
     }
-    if (idx_.t >= 0) r.t = value(idx_.t, o_.t_column);
+    if (idx_.t >= 0) r.t = time_value();
     r.x = value(idx_.x, o_.x_column);
     if (idx_.u >= 0) r.u = value(idx_.u, o_.u_column);
     if (idx_.y >= 0) r.y = value(idx_.y, o_.y_column);
@@ -138,6 +140,38 @@ class CsvParser {
     rb_ = std::make_unique<RecordBuilder>(d_, path_, o_, idx_.present(), summary_);
   }
 
+  /// A row of units under the header ("s,mm,V", "[s];[mm]", ",s,mm" or "-,s,mm" for a unitless
+  /// column): the first row after the header when none of its fields is a number or a missing
+  /// value and one at least is text (skipped, said in the summary).
+  bool units_row() {
+    bool text = false;
+    for (auto f : fields_) {
+      f = trim(f);
+      if (f.empty() || f == "-") continue;
+      if (is_missing_token(f)) return false;
+      text = true;
+      double v = 0.0;
+      const auto r = fast_float::from_chars(f.data(), f.data() + f.size(), v);
+      if (r.ptr != f.data() || std::isdigit(static_cast<unsigned char>(f.front())) || f.front() == '-' || f.front() == '+' ||
+          f.front() == '.')
+        return false;
+    }
+    if (!text) return false;
+    summary_.warnings.push_back(path_ + ": line " + std::to_string(line_no_) + " read as a row of units and skipped");
+    return true;
+  }
+
+  /// The time column: a number, or an ISO-8601 stamp in seconds since the file's first stamp.
+  double time_value() {
+    const std::string_view f = trim(fields_[static_cast<std::size_t>(idx_.t)]);
+    if (f.size() < 19 || f[4] != '-') return value(idx_.t, o_.t_column);
+    const std::optional<IsoTime> t = parse_iso8601(f);
+    if (!t) throw Error(rb_->where(line_no_) + ": column '" + o_.t_column + "': '" + std::string(f) +
+                        "' is not a number nor an ISO-8601 time (YYYY-MM-DDThh:mm:ss[.fff][Z|+hh:mm])");
+    if (!iso_base_) iso_base_ = t->seconds;
+    return static_cast<double>(t->seconds - *iso_base_) + t->fraction;
+  }
+
   /// The number in a field; NaN for a missing value (empty, "nan", or a spreadsheet's NA, N/A,
   /// #N/A, null: RecordBuilder decides). With a ';' or tab delimiter a decimal comma ("0,125")
   /// is read as a decimal point (European locales).
@@ -170,6 +204,8 @@ class CsvParser {
   Dataset d_;
   std::unique_ptr<RecordBuilder> rb_;
   std::vector<std::string_view> fields_;
+  std::size_t rows_seen_ = 0;
+  std::optional<long long> iso_base_;  ///< whole seconds of the first ISO-8601 stamp
 };
 
 }  // namespace

@@ -27,6 +27,10 @@ struct LoggerStyle {
   double length_factor = 1.0;  ///< x written as x·length_factor (1000: mm from m)
   std::size_t gap_at = 0, gap_rows = 0;  ///< rows [gap_at, gap_at + gap_rows) left out
   std::size_t nan_at = 0, nan_rows = 0;  ///< rows whose x is written "NaN" (first) or empty
+  /// ISO-8601 stamps from 2026-11-25T23:59:50+01:00 (time_decimals decimals; crosses midnight
+  /// after 10 s) instead of numbers
+  bool iso_time = false;
+  std::string units_row;       ///< written under the header when not empty ("s;mm;m/s^2")
 };
 
 /// A deterministic uniform number in [−1, 1) (the time-stamp jitter).
@@ -43,6 +47,7 @@ inline void write_logger_csv(const std::string& path, const std::vector<double>&
   f << '"' << s.t_name << '"' << s.delimiter << '"' << s.x_name << '"';
   if (!u.empty()) f << s.delimiter << '"' << s.u_name << '"';
   f << "\r\n";
+  if (!s.units_row.empty()) f << s.units_row << "\r\n";
   std::uint64_t state = 12345;
   char buf[64];
   for (std::size_t i = 0; i < x.size(); ++i) {
@@ -50,7 +55,12 @@ inline void write_logger_csv(const std::string& path, const std::vector<double>&
     if (i >= s.gap_at && i < s.gap_at + s.gap_rows) continue;
     double t = s.t0 + static_cast<double>(i) * dt + j;
     if (s.float32_time) t = static_cast<double>(static_cast<float>(t));
-    if (s.time_decimals > 0)
+    if (s.iso_time) {
+      const double in_minute = 50.0 + t;  // 23:59:50 + t, the next day from 60 s on (t < 70 s)
+      const bool next_day = in_minute >= 60.0;
+      std::snprintf(buf, sizeof buf, "2026-11-%sT%s:%0*.*f+01:00", next_day ? "26" : "25", next_day ? "00:00" : "23:59",
+                    s.time_decimals + 3, s.time_decimals, next_day ? in_minute - 60.0 : in_minute);
+    } else if (s.time_decimals > 0)
       std::snprintf(buf, sizeof buf, "%.*f", s.time_decimals, t);
     else
       std::snprintf(buf, sizeof buf, "%.17g", t);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "vehs/io/detail/iso_time.hpp"
 #include "io/logger_files.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/io/measurements.hpp"
@@ -191,4 +192,45 @@ TEST_CASE("2-D .npy and MATLAB .mat files read with a column mapping", "[io][log
   CHECK(vehs::read_measurements(k, ko).x == x);
   ko.mat_variable = "nope";
   CHECK_THAT(error_of(k, ko), Catch::Contains("vehs_matrix.mat") && Catch::Contains("'nope'"));
+}
+
+TEST_CASE("ISO-8601 time stamps (crossing midnight, with an offset) and a row of units under the header",
+          "[io][logger]") {
+  const auto x = displacement(), u = drive();
+  vehs::test::LoggerStyle s;
+  s.iso_time = true;
+  s.time_decimals = 4;
+  s.units_row = "s;mm;m/s^2";
+  const auto p = temp("vehs_logger_iso.csv");
+  vehs::test::write_logger_csv(p, x, u, kDt, s);
+  vehs::ReadSummary summary;
+  const auto d = vehs::read_measurements(p, logger_columns(), &summary);
+  REQUIRE(d.records.size() == 1);
+  CHECK(d.records[0].size == x.size());
+  CHECK(d.records[0].first_line == 6);  // 3 comment lines, the header, the units, then data
+  CHECK(d.records[0].t0 == 0.0);        // seconds since the file's first stamp
+  // 4-decimal stamps of a 1/300 s step: each within 0.05 ms, the mean over 2999 steps within 1e-7 / 2999
+  CHECK(std::abs(d.records[0].dt - kDt) < 1e-4 / 2999.0);
+  CHECK(d.x[100] == Approx(x[100]).margin(1e-9));
+  CHECK(d.u[100] == Approx(u[100]).margin(1e-8));
+  REQUIRE(!summary.warnings.empty());
+  CHECK_THAT(summary.warnings[0], Catch::Contains("line 5 read as a row of units"));
+}
+
+TEST_CASE("ISO-8601 stamps: exact seconds, offsets, impossible dates refused", "[io][logger][asan]") {
+  using vehs::io_detail::parse_iso8601;
+  REQUIRE(parse_iso8601("1970-01-01T00:00:00Z"));
+  CHECK(parse_iso8601("1970-01-01T00:00:00Z")->seconds == 0);
+  const auto leap = parse_iso8601("2000-02-29 12:00:00.5+02:00");  // 10:00 UTC
+  REQUIRE(leap);
+  CHECK(leap->seconds == 951818400);
+  CHECK(leap->fraction == 0.5);
+  CHECK(parse_iso8601("2026-11-25T07:00:00,125")->fraction == Approx(0.125));
+  CHECK(parse_iso8601("2026-11-25T07:00:00-0530")->seconds - parse_iso8601("2026-11-25T07:00:00Z")->seconds == 19800);
+  CHECK_FALSE(parse_iso8601("2001-02-29T00:00:00"));
+  CHECK_FALSE(parse_iso8601("2026-13-01T00:00:00"));
+  CHECK_FALSE(parse_iso8601("2026-11-25T24:00:00"));
+  CHECK_FALSE(parse_iso8601("2026-11-25T07:00:00."));
+  CHECK_FALSE(parse_iso8601("2026-11-25T07:00:00 UTC"));
+  CHECK_FALSE(parse_iso8601("12.5"));
 }
