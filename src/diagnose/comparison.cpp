@@ -9,6 +9,7 @@
 #include "comparison.hpp"
 #include "unit_math.hpp"
 #include "vehs/core/detail/progress_counter.hpp"
+#include "vehs/core/quantisation.hpp"
 
 namespace vehs::diagnose::detail {
 
@@ -59,6 +60,10 @@ TwinSettings choose_twin_settings(const Comparison& cmp, SamplingVerdict verdict
                 : consistent        ? 1
                                     : continuous_twin_substeps(cmp.model, lens.dt, box.x_lo, box.x_hi, box.v_lo, box.v_hi);
   ts.sensor_noise = lens.sensor_noise_sd;
+  if (const Quantisation q = find_quantisation(cmp.data); q.quantised()) {
+    ts.quantisation_step = q.step;
+    ts.sensor_noise = std::sqrt(std::max(lens.sensor_noise_sd * lens.sensor_noise_sd - q.noise_variance(), 0.0));
+  }
   ts.input = cmp.model.fit ? cmp.model.fit->input : InputInterpolation::ZeroOrderHold;
   ts.seed = opt.seed;
   ts.smoothing = lens.sensor_noise_sd > 0.0 ? std::max(2, lens.stride) : 1;

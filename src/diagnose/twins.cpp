@@ -165,6 +165,19 @@ void TwinSimulator::simulate(int rep, Dataset& out) {
       out.records[G.records[i]].source = "twin of " + d.source;
     }
   }
+  if (settings_.quantisation_step > 0.0) round_to_grid(out);
+}
+
+void TwinSimulator::round_to_grid(Dataset& out) const {
+  const double q = settings_.quantisation_step;
+  for (std::size_t r = 0; r < data_.records.size(); ++r) {
+    const double origin = data_.x_of(data_.records[r])[0];
+    const Record& t = out.records[r];
+    for (std::size_t k = 0; k < t.size; ++k) {
+      double& x = out.x[t.offset + k];
+      x = origin + q * std::round((x - origin) / q);
+    }
+  }
 }
 
 }  // namespace vehs::diagnose::detail
