@@ -16,6 +16,15 @@
 
 namespace {
 
+/// The true terms, no selection (the tests below ask for the estimates, not the support).
+vehs::identify::Options true_terms() {
+  vehs::identify::Options o;
+  o.drift_library = {vehs::Term::parse("x"), vehs::Term::parse("x^3"), vehs::Term::parse("y")};
+  o.diffusion_library = {vehs::Term::parse("1")};
+  o.sparsity = vehs::identify::Sparsity::None;
+  return o;
+}
+
 vehs::Model duffing_mm() {  // β 5 /s, k1 2500 /s², k3 2500 /(mm² s²), 2D 2000 mm²/s³
   return vehs::model_from_json(nlohmann::json::parse(R"({
     "drift": {"x": 2500.0, "x^3": -2500.0, "y": -5.0}, "diffusion": {"1": 2000.0}})"), "Duffing in mm");
@@ -30,10 +39,7 @@ TEST_CASE("integer counts sampled fast: auto reads the quantisation at a longer 
   const vehs::Model truth = duffing_mm();
   vehs::Dataset d = vehs_test::simulate(truth, 1e-4, 10, 4, 20000, 307, 0.0, vehs::sim::Scheme::Taylor15);
   for (double& x : d.x) x = std::round(100.0 * x);  // counts: 1 count = 0.01 mm
-  vehs::identify::Options o;
-  o.drift_library = {vehs::Term::parse("x"), vehs::Term::parse("x^3"), vehs::Term::parse("y")};
-  o.diffusion_library = {vehs::Term::parse("1")};
-  o.sparsity = vehs::identify::Sparsity::None;
+  const vehs::identify::Options o = true_terms();
   const vehs::identify::Result r = vehs::identify::identify(d, o);
   const vehs::Model& m = r.model;
   INFO(r.report.estimator.reason);
@@ -84,10 +90,7 @@ TEST_CASE("values printed with 3 decimals: the rounding noise is corrected in th
     "drift": {"x": -1.0, "x^3": -1.0, "y": -0.1}, "diffusion": {"1": 0.2}})"), "Duffing");
   vehs::Dataset d = vehs_test::simulate(truth, 0.05, 50, 5, 20000, seed_or(4101), 0.0, vehs::sim::Scheme::Taylor15);
   for (double& x : d.x) x = std::round(1000.0 * x) / 1000.0;
-  vehs::identify::Options o;
-  o.drift_library = {vehs::Term::parse("x"), vehs::Term::parse("x^3"), vehs::Term::parse("y")};
-  o.diffusion_library = {vehs::Term::parse("1")};
-  o.sparsity = vehs::identify::Sparsity::None;
+  const vehs::identify::Options o = true_terms();
   const vehs::identify::Result r = vehs::identify::identify(d, o);
   INFO(r.report.estimator.reason);
   REQUIRE(r.model.fit);
@@ -106,10 +109,7 @@ TEST_CASE("a bistable in 10-bit counts at 20 kHz: the fit starts from the dither
     "drift": {"x": 986.96, "x^3": -0.0941, "y": -6.2832}, "diffusion": {"1": 3.25e7}})"), "bistable in counts");
   vehs::Dataset d = vehs_test::simulate(truth, 5e-5, 4, 4, 50000, seed_or(4102), 0.0, vehs::sim::Scheme::Taylor15);
   for (double& x : d.x) x = std::round(x);
-  vehs::identify::Options o;
-  o.drift_library = {vehs::Term::parse("x"), vehs::Term::parse("x^3"), vehs::Term::parse("y")};
-  o.diffusion_library = {vehs::Term::parse("1")};
-  o.sparsity = vehs::identify::Sparsity::None;
+  const vehs::identify::Options o = true_terms();
   const vehs::identify::Result r = vehs::identify::identify(d, o);
   INFO(r.report.estimator.reason);
   REQUIRE(r.model.fit);
