@@ -8,6 +8,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "bic_swaps.hpp"
+
 #include "vehs/conventions.hpp"
 #include "vehs/core/error.hpp"
 
@@ -202,6 +204,32 @@ std::string SelectionOptions::invalid_reason() const {
   return "";
 }
 
+namespace {
+
+/// The BIC's choice improved off the path (bic_swaps.hpp): the support reached is
+/// appended to the path as its last step and chosen.
+void take_bic_swaps(SelectionResult& r, const QuadraticStats& total, const std::vector<int>& initial,
+                    const std::vector<bool>& keep, double variance_factor) {
+  const SupportFit& chosen = r.path[static_cast<std::size_t>(r.chosen)];
+  SupportFit better = bic_best_subset(total, chosen, initial, keep, variance_factor);
+  std::vector<int> a = chosen.support, b = better.support;
+  std::sort(a.begin(), a.end());
+  if (a == b) return;
+  const double before = r.bic[static_cast<std::size_t>(r.chosen)];
+  const double after = support_bic(total, better, variance_factor);
+  if (!(after < before)) return;
+  r.path.push_back(std::move(better));
+  r.bic.push_back(after);
+  r.cv_loss.push_back(kNaN);
+  r.cv_diff.push_back(kNaN);
+  r.cv_diff_se.push_back(kNaN);
+  r.chosen = static_cast<int>(r.path.size()) - 1;
+  r.rule += "; then the lowest BIC over every support with at most one term more (off the path): " +
+            std::to_string(before) + " -> " + std::to_string(after) + " (last step)";
+}
+
+}  // namespace
+
 SelectionResult select_sparse(const std::vector<QuadraticStats>& folds, const std::vector<int>& initial,
                               const std::vector<bool>& keep, const SelectionOptions& options) {
   require(!folds.empty(), "internal: no fold statistics");
@@ -296,6 +324,7 @@ SelectionResult select_sparse(const std::vector<QuadraticStats>& folds, const st
     r.rule = std::string("minimum BIC = n log(L/n)/phi + p log n, phi = ") + std::to_string(variance_factor) +
              " (long-run variance factor of the residuals)" +
              (cv_possible ? "" : " (cross-validation needs at least 2 folds)");
+    take_bic_swaps(r, total, initial, keep, variance_factor);
     return r;
   }
   if (criterion == Criterion::CvMin) {
