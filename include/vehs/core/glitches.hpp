@@ -6,7 +6,9 @@
 //
 // Rule: r_i = x_i − (x_{i−1} + x_{i+1})/2 (half the second difference) for interior samples;
 // σ = 1.4826·MAD(r) of the record (robust: the glitches themselves do not inflate it; estimated
-// from at most 2^17 evenly spaced r_i, so memory does not grow with the record). Sample i is an
+// from at most 2^17 evenly spaced r_i, so memory does not grow with the record), and at least
+// the rounding noise of r, q·√(1.5/12), when the values lie on a grid of step q (quantisation.hpp:
+// most r_i of values printed "%.2f" are exactly 0 and MAD is round-off). Sample i is an
 // isolated glitch when |r_i| > threshold·σ and both neighbours show the signature of one displaced
 // sample, r_{i±1} ≈ −r_i/2 (within |r_i|/4), while r_{i±2} stays below |r_i|/4: a steep but smooth
 // feature of the signal (an impact, a fast transient) does not have that shape. The first and
