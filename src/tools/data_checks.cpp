@@ -27,7 +27,7 @@ KeySpec flat_stretches_key_spec() {
           "samples when N p^(L-1) < 1e-9 and L >= 5, p the record's share of equal consecutive samples, "
           "N its length; quantised records, with 1 in 1000 consecutive pairs repeated in shorter runs, are "
           "checked for clipping only: every run at the record's extreme value when that value holds more than 3x "
-          "the samples of the next value plus 30, in at least 3 runs): \"error\" stops naming their lines, \"drop\" cuts each record there (as for "
+          "the samples of the next value plus 30, in at least 3 runs or one 3x longer than any other run): \"error\" stops naming their lines, \"drop\" cuts each record there (as for "
           "glitches), \"keep\" fits them as data.",
           "\"error\""};
 }
