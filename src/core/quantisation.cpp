@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 namespace vehs {
@@ -81,8 +83,12 @@ Quantisation find_quantisation(const Dataset& data) {
   double repeated = 0.0, at_step = 0.0;
   const double g = smallest_spacing(data, repeated, at_step);
   if (!(g > 0.0) || repeated < kRepeatShare || at_step < kStepShare || !on_grid(data, g)) return out;
-  out.step = g;
-  out.dither_stride = dither_stride(data, g);
+  // the spacing of two parsed values carries their round-off (0.99999999999989 for counts,
+  // 0.0009999999999994 for "%.3f"): 12 significant digits keep every real step
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.12g", g);
+  out.step = std::strtod(buf, nullptr);
+  out.dither_stride = dither_stride(data, out.step);
   return out;
 }
 

@@ -65,3 +65,13 @@ TEST_CASE("the dither stride: the first doubling whose increments spread over a 
     if (k > 1) CHECK(double(k / 2) * slope < 1.0 + 0.2);  // and not before
   }
 }
+
+TEST_CASE("the step is written without the round-off of the spacing of parsed values", "[core][quantisation][asan]") {
+  vehs::Dataset d = oscillator(5000, 6, 1);
+  char buf[64];
+  for (double& x : d.x) {
+    std::snprintf(buf, sizeof buf, "%.3f", 3.7 + x);  // an offset: spacings like 3.701 − 3.700
+    x = std::strtod(buf, nullptr);
+  }
+  CHECK(vehs::find_quantisation(d).step == 0.001);
+}
