@@ -75,6 +75,19 @@ int dither_stride(const Dataset& data, double q) {
   return k;
 }
 
+/// The spacing of two parsed values carries their round-off (0.99999999999989 for counts,
+/// 0.000999999999999 for "%.3f" values near 3.7): the value with the fewest significant digits
+/// within 1e-9 of it (a scaled count such as 20/2^24 keeps its digits).
+double shortest_near(double g) {
+  char buf[32];
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, g);
+    const double v = std::strtod(buf, nullptr);
+    if (std::abs(v - g) <= 1e-9 * g) return v;
+  }
+  return g;
+}
+
 }  // namespace
 
 Quantisation find_quantisation(const Dataset& data) {
@@ -83,11 +96,7 @@ Quantisation find_quantisation(const Dataset& data) {
   double repeated = 0.0, at_step = 0.0;
   const double g = smallest_spacing(data, repeated, at_step);
   if (!(g > 0.0) || repeated < kRepeatShare || at_step < kStepShare || !on_grid(data, g)) return out;
-  // the spacing of two parsed values carries their round-off (0.99999999999989 for counts,
-  // 0.0009999999999994 for "%.3f"): 12 significant digits keep every real step
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.12g", g);
-  out.step = std::strtod(buf, nullptr);
+  out.step = shortest_near(g);
   out.dither_stride = dither_stride(data, out.step);
   return out;
 }
