@@ -13,6 +13,7 @@
 #include "drift_pass.hpp"
 #include "lens_mask.hpp"
 #include "pilot.hpp"
+#include "positive_diffusion.hpp"
 #include "standard_errors.hpp"
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/dominant_frequency.hpp"
@@ -355,66 +356,6 @@ DriftSelection select_drift(const std::vector<DriftStats>& folds, const Dictiona
   rep.drift_selection.selection = select_sparse(drift_folds(folds, dict.phi, d.corr), full_support(P), dict.keep_phi, selection);
   d.support = chosen_fit(rep.drift_selection.selection).support;
   return d;
-}
-
-/// The states the data visit, for the sign of a22: x over the data's range, y over ±4 sd of v̂.
-struct StateBox {
-  double x_lo = 0.0, x_hi = 0.0, y_sd = 0.0;
-};
-
-StateBox state_box(const Dataset& data, double v_sd) {
-  StateBox b;
-  b.x_lo = b.x_hi = data.x[0];
-  for (double v : data.x) b.x_lo = std::min(b.x_lo, v), b.x_hi = std::max(b.x_hi, v);
-  b.y_sd = v_sd;
-  return b;
-}
-
-/// Whether a22 = Σ q_j ψ_j is > 0 on a grid over the box (201 values of x; 41 of y when ψ
-/// depends on y) and at the rest state (0, 0) when the box holds it (a22 = c x² is no noise at rest).
-bool positive_on(const Dictionary& psi, const VectorXd& q, const StateBox& box) {
-  TermList a22;
-  bool on_y = false;
-  for (int j = 0; j < psi.size(); ++j)
-    if (q[j] != 0.0) a22.push_back({psi.term(j), q[j]}), on_y = on_y || psi.term(j).depends_on_y();
-  if (box.x_lo <= 0.0 && box.x_hi >= 0.0 && !(evaluate(a22, 0.0, 0.0) > 0.0)) return false;
-  const int nx = 201, ny = on_y ? 41 : 1;
-  for (int i = 0; i < nx; ++i)
-    for (int j = 0; j < ny; ++j) {
-      const double x = box.x_lo + (box.x_hi - box.x_lo) * i / (nx - 1);
-      const double y = on_y ? 4.0 * box.y_sd * (2.0 * j / (ny - 1) - 1.0) : 0.0;
-      if (!(evaluate(a22, x, y) > 0.0)) return false;
-    }
-  return true;
-}
-
-/// A variance rate is > 0: when the selected diffusion is not somewhere the data go (weakly
-/// determined terms at the edges of the range: quantised records at 20 kHz read x⁴ = −0.10 with
-/// a22 < 0 beyond 77 counts of data reaching 87), the first sparser step of the path whose
-/// diffusion is > 0 there is taken, and the rule says so (none: the selection stands and
-/// identify-vehs refuses to write the model, vehs/core/diffusion_in_data.hpp).
-void positive_step(SelectionResult& sel, const QuadraticStats& total, const Dictionary& psi,
-                   const std::vector<bool>& keep, const StateBox& box) {
-  const int K = psi.size();
-  auto positive = [&](const SupportFit& f) { return positive_on(psi, full_coefficients(f, K), box); };
-  if (positive(sel.path[static_cast<std::size_t>(sel.chosen)])) return;
-  for (int step = sel.chosen + 1; step < static_cast<int>(sel.path.size()); ++step)
-    if (positive(sel.path[static_cast<std::size_t>(step)])) {
-      sel.rule += "; a22 <= 0 inside the data at that step: the first sparser step with a22 > 0 there (step " +
-                  std::to_string(step) + ")";
-      sel.chosen = step;
-      return;
-    }
-  // the path dropped the constant on its way: the constant diffusion (and the kept terms)
-  std::vector<int> constant;
-  for (int j = 0; j < K; ++j)
-    if (psi.term(j) == Term::monomial(0) || keep[static_cast<std::size_t>(j)]) constant.push_back(j);
-  if (constant.empty()) return;  // none: identify-vehs refuses the model
-  const SupportFit f = fit_support(total, constant);
-  if (!positive(f)) return;
-  sel.path.push_back(f);
-  sel.chosen = static_cast<int>(sel.path.size()) - 1;
-  sel.rule += "; a22 <= 0 inside the data at that step and every sparser one: the constant diffusion";
 }
 
 /// The diffusion selection from the per-fold residual statistics (the noisy estimator's sensor
