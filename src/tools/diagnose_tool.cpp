@@ -100,7 +100,9 @@ const ConfigSchema& diagnose_schema() {
           {"sensor_noise", "number",
            "Standard deviation of white sensor noise on x assumed for the lens and the twins (default: the model "
            "file's likelihood.measurement_sd or sampling.sensor_noise_sd, else the data's sampling diagnosis); > 0: "
-           "the data are read as a noisy sensor of a continuous process.",
+           "the data are read as a noisy sensor of a continuous process. Data whose values lie on a grid (ADC counts, "
+           "fixed decimals) get twins rounded to that grid, with white noise only for the part beyond the rounding's "
+           "q^2/12, and the held-out suspects stand aside where the rounding is correlated over the first strides.",
            "", true},
           {"twin_scheme", "string",
            "Scheme of the twins: auto (rk4_euler at the recorded step for scheme-consistent data, taylor15 on "
