@@ -65,6 +65,12 @@ TEST_CASE("identify-vehs: CSV and .npy records to a model file with standard err
     for (const char* key : {"estimator", "sampling", "residuals", "selection", "fit", "data", "provenance"})
       CHECK(file.sections.contains(key));
     CHECK(file.sections["data"]["records"] == 10);
+    // the paper's sampling (ω̂Δt ≈ 0.04): the expansions are vouched for and the file says so
+    const auto& adequacy = file.sections["estimator"]["sampling_adequacy"];
+    CHECK(adequacy["vouched"] == true);
+    CHECK(adequacy["likelihood"] == "not used");
+    CHECK(adequacy["omega_dt"].get<double>() < 0.1);
+    CHECK(adequacy["reason"].get<std::string>().find("the expansions in dt hold") != std::string::npos);
     CHECK(vehs_test::compare(m, vehs_test::paper_truth()).max_z <= vehs_test::z_limit(8));
   }
 }
