@@ -25,11 +25,12 @@ std::size_t flagged_run(std::size_t n, std::size_t equal) {
   return std::max(kMinRun, static_cast<std::size_t>(std::ceil(L)));
 }
 
-/// The runs of one record longer than its own repeats explain, not at a clipped level.
+/// The runs of one record longer than its own repeats explain, not at a clipped level (already
+/// flagged, every run there).
 void append_long_runs(const double* x, const Record& rec, std::size_t k, std::size_t equal,
-                      const std::vector<FlatStretch>& clipped, std::vector<FlatStretch>& out) {
+                      const std::vector<double>& clipped_levels, std::vector<FlatStretch>& out) {
   const auto at_clip = [&](double v) {
-    return std::any_of(clipped.begin(), clipped.end(), [&](const FlatStretch& c) { return c.x == v; });
+    return std::find(clipped_levels.begin(), clipped_levels.end(), v) != clipped_levels.end();
   };
   const std::size_t bar = flagged_run(rec.size, equal);
   for (std::size_t i = 0; i < rec.size;) {  // a second pass: storing the candidates would cost memory on quantised data
@@ -59,8 +60,12 @@ std::vector<FlatStretch> find_flat_stretches(const Dataset& data) {
     if (equal + 1 < kMinRun) continue;
     std::vector<FlatStretch> found;
     detail::append_clipped_runs(x, rec.size, k, rec.first_line, found);
-    if (double(in_short_runs) < kQuantisedShare * double(rec.size - 1))  // quantised: clipping only
-      append_long_runs(x, rec, k, equal, std::vector<FlatStretch>(found), found);
+    if (double(in_short_runs) < kQuantisedShare * double(rec.size - 1)) {  // quantised: clipping only
+      std::vector<double> levels;
+      for (const FlatStretch& f : found)
+        if (std::find(levels.begin(), levels.end(), f.x) == levels.end()) levels.push_back(f.x);
+      append_long_runs(x, rec, k, equal, levels, found);
+    }
     std::sort(found.begin(), found.end(), [](const FlatStretch& a, const FlatStretch& b) { return a.sample < b.sample; });
     out.insert(out.end(), found.begin(), found.end());
   }

@@ -25,6 +25,7 @@ double smallest_spacing(const Dataset& data, double& repeated, double& at_step) 
   std::size_t looked = 0, distinct = 0;
   const std::size_t per_record = std::max<std::size_t>(kMaxLook / std::max<std::size_t>(data.records.size(), 1), 64);
   for (const Record& rec : data.records) {
+    if (rec.size == 0) continue;
     const double* x = data.x_of(rec);
     v.assign(x, x + std::min(rec.size, per_record));
     std::sort(v.begin(), v.end());
@@ -49,6 +50,7 @@ double smallest_spacing(const Dataset& data, double& repeated, double& at_step) 
 bool on_grid(const Dataset& data, double q) {
   for (const Record& rec : data.records) {
     const double* x = data.x_of(rec);
+    if (rec.size == 0) continue;
     const double x0 = *std::min_element(x, x + rec.size);
     for (std::size_t i = 0; i < rec.size; ++i) {
       const double m = (x[i] - x0) / q;

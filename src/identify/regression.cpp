@@ -8,7 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "bic_swaps.hpp"
+#include "best_subset.hpp"
 
 #include "vehs/conventions.hpp"
 #include "vehs/core/error.hpp"
@@ -206,9 +206,9 @@ std::string SelectionOptions::invalid_reason() const {
 
 namespace {
 
-/// The BIC's choice improved off the path (bic_swaps.hpp): the support reached is
+/// The BIC's choice improved off the path (best_subset.hpp): the support reached is
 /// appended to the path as its last step and chosen.
-void take_bic_swaps(SelectionResult& r, const QuadraticStats& total, const std::vector<int>& initial,
+void take_best_subset(SelectionResult& r, const QuadraticStats& total, const std::vector<int>& initial,
                     const std::vector<bool>& keep, double variance_factor) {
   const SupportFit& chosen = r.path[static_cast<std::size_t>(r.chosen)];
   SupportFit better = bic_best_subset(total, chosen, initial, keep, variance_factor);
@@ -216,7 +216,7 @@ void take_bic_swaps(SelectionResult& r, const QuadraticStats& total, const std::
   std::sort(a.begin(), a.end());
   if (a == b) return;
   const double before = r.bic[static_cast<std::size_t>(r.chosen)];
-  const double after = support_bic(total, better, variance_factor);
+  const double after = bic(total.n, better.loss, better.support.size(), variance_factor);
   if (!(after < before)) return;
   r.path.push_back(std::move(better));
   r.bic.push_back(after);
@@ -257,12 +257,7 @@ SelectionResult select_sparse(const std::vector<QuadraticStats>& folds, const st
   r.cv_diff_se.assign(steps, kNaN);
   r.bic.assign(steps, kNaN);
   const double n = total.n;
-  for (std::size_t s = 0; s < steps; ++s) {
-    const double L = r.path[s].loss;
-    if (L > 0.0 && n > 1.0)
-      r.bic[s] = n * std::log(L / n) / variance_factor +
-                 static_cast<double>(r.path[s].support.size()) * std::log(n);
-  }
+  for (std::size_t s = 0; s < steps; ++s) r.bic[s] = bic(n, r.path[s].loss, r.path[s].support.size(), variance_factor);
   // held-out contrast per fold and step (for STLSQ only the first and last steps are comparable)
   std::vector<std::vector<double>> fold_loss(steps, std::vector<double>(F, kNaN));
   if (F >= 2) {
@@ -324,7 +319,7 @@ SelectionResult select_sparse(const std::vector<QuadraticStats>& folds, const st
     r.rule = std::string("minimum BIC = n log(L/n)/phi + p log n, phi = ") + std::to_string(variance_factor) +
              " (long-run variance factor of the residuals)" +
              (cv_possible ? "" : " (cross-validation needs at least 2 folds)");
-    take_bic_swaps(r, total, initial, keep, variance_factor);
+    take_best_subset(r, total, initial, keep, variance_factor);
     return r;
   }
   if (criterion == Criterion::CvMin) {

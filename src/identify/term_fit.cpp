@@ -305,6 +305,7 @@ SamplingStage sampling_stage(const PilotInputs& in, const Options& options) {
   // quantised values at a fast rate: the rounding error is white only from the dither stride
   const bool central_request = options.estimator == Estimator::Auto || uses_central_kinematics(options.estimator);
   int k = options.stride > 0 ? options.stride : central_request ? in.quant.dither_stride : 1;
+  while (options.stride == 0 && k > 1 && in.too_short(k)) k /= 2;  // records too short for that stride
   if (in.too_short(k))
     throw Error("records are too short for stride " + std::to_string(k) + " (the shortest has " +
                 std::to_string(in.min_size) + " samples, " +

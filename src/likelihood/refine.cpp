@@ -39,6 +39,7 @@ bool RefineOptions::IsValid(std::string* error) const {
   if (!(lr_alpha > 0.0 && lr_alpha < 0.5)) return fail("lr_alpha must be in (0, 0.5)");
   if (max_iterations < 1) return fail("max_iterations must be >= 1");
   if (max_rounds < 1) return fail("max_rounds must be >= 1");
+  if (max_added < 0) return fail("max_added must be >= 0");
   if (!(step_tolerance > 0.0)) return fail("step_tolerance must be > 0");
   if (warm_start_samples < 1000) return fail("warm_start_samples must be >= 1000");
   if (bias_correction_datasets < 0 || bias_correction_datasets > 1000)

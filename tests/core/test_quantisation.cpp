@@ -75,3 +75,14 @@ TEST_CASE("the step is written without the round-off of the spacing of parsed va
   }
   CHECK(vehs::find_quantisation(d).step == 0.001);
 }
+
+TEST_CASE("empty and one-sample records are skipped", "[core][quantisation][asan]") {
+  vehs::Dataset d = oscillator(4000, 8, 2);
+  for (double& x : d.x) x = std::round(100.0 * x);
+  vehs::Record empty = d.records[1];
+  empty.offset = d.x.size();
+  empty.size = 0;
+  d.records.push_back(empty);
+  const vehs::Quantisation q = vehs::find_quantisation(d);
+  CHECK(q.step == 1.0);
+}
