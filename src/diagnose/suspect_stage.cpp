@@ -77,7 +77,7 @@ std::optional<Dataset> add_suspects(const Model& model, const Dataset& data, con
   const std::string coarse = moment_suspects_invalid(model, data);
   if (!coarse.empty()) {
     for (auto& sp : res.suspects.ranked) sp.held_out_significant = false;
-    res.suspects.note += (res.suspects.note.empty() ? "" : " ") + coarse;
+    res.suspects.set_aside = coarse;
     Component c{"suspects", "largest held-out evidence for a catalogue effect the model lacks (named alternatives)",
                 TestResult{}};
     c.test.note = coarse;

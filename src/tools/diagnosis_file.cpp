@@ -235,6 +235,7 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
                                    {"note", r.score_suspects.note}};
   }
   j["suspects_heldout"] = {{"rows", r.suspects.baseline_heldout_rows}, {"blocks", r.suspects.blocks}};
+  if (!r.suspects.set_aside.empty()) j["suspects_heldout"]["set_aside"] = r.suspects.set_aside;
   j["warnings"] = r.warnings;
   J timings = J::object();
   for (const auto& [stage, seconds] : r.timings) timings[stage] = seconds;

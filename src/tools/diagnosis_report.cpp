@@ -339,6 +339,8 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
   {
     auto& s = report.section("Suspects: effects the model may be missing");
     if (!r.suspects.note.empty()) s.paragraphs.push_back(r.suspects.note);
+    const bool aside = !r.suspects.set_aside.empty();
+    if (aside) s.paragraphs.push_back("NOT A TEST ON THESE DATA: " + r.suspects.set_aside + ".");
     if (!r.suspects.ranked.empty()) {
       s.paragraphs.push_back(
           "Each effect was added to the model's terms, fitted by identify on the first part of every record and "
@@ -347,13 +349,14 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
           "its standard error over blocks. A suspect is claimed only when z is large, the gain positive and the "
           "model inadequate. Merge the 'add' fragment into the identify-vehs config to try it.");
       ReportTable t;
-      t.caption = "Suspects, most likely first";
+      t.caption = aside ? "Held-out suspects, SET ASIDE (shown for reference; nothing is claimed from them)"
+                        : "Suspects, most likely first";
       t.header = {"effect", "evidence (nats)", "z", "claimed", "fitted parameters", "add to identify-vehs config"};
       Table bars({"z", "evidence"}, "effect");
       for (std::size_t i = 0; i < r.suspects.ranked.size(); ++i) {
         const auto& sp = r.suspects.ranked[i];
         const std::string params = params_text(sp.params, sp.params_stderr);
-        t.rows.push_back({sp.effect, g(sp.evidence), g(sp.z, 3), sp.significant ? "yes" : "no", params,
+        t.rows.push_back({sp.effect, g(sp.evidence), g(sp.z, 3), aside ? "set aside" : sp.significant ? "yes" : "no", params,
                           suspect_add_fragment(sp).dump()});
         if (sp.significant) t.highlight.push_back(i);
         bars.add_row(label_text(sp.effect), {std::isfinite(sp.z) ? sp.z : 0.0, sp.evidence});

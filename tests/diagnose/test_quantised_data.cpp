@@ -36,4 +36,7 @@ TEST_CASE("integer counts at a fast rate: the true model's fit is not refuted an
     if (c.test.available) CHECK(c.test.p_value > 1e-6);
   }
   CHECK(suspects_aside);
+  // the held-out ranking is kept for reference, marked as not a test and never claimed
+  CHECK(r.suspects.set_aside.find("grid") != std::string::npos);
+  for (const auto& sp : r.suspects.ranked) CHECK_FALSE(sp.significant);
 }

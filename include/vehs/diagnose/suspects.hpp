@@ -120,6 +120,9 @@ struct SuspectReport {
   double baseline_heldout_rows = 0.0;
   int blocks = 0;
   std::string note;  ///< non-empty when the suspects could not be evaluated at all
+  /// Non-empty when the held-out evidence is not a test on these data (a likelihood fit, coarse
+  /// sampling, correlated rounding): why. The ranking is then shown, never claimed.
+  std::string set_aside;
 };
 
 /// z of a held-out gain: the mean over blocks divided by its standard error from the
