@@ -85,7 +85,7 @@ class CsvParser {
   void line(std::string_view text) {
     ++line_no_;
     if (line_no_ == 1 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 BOM
-    if (is_comment_or_blank(text)) return;
+    if (is_comment_or_blank(text) || is_semicolon_comment(text)) return;
     if (!rb_) return header(text);
     split(text, delimiter_, fields_);
     if (!rows_seen_++ && units_row()) return;
@@ -120,6 +120,13 @@ class CsvParser {
   }
 
  private:
+  /// A line starting with ';' (INI-style loggers' comments): before the header, and after it
+  /// unless ';' delimits the fields (there it is an empty first field).
+  bool is_semicolon_comment(std::string_view text) const {
+    const auto p = text.find_first_not_of(" \t");
+    return p != std::string_view::npos && text[p] == ';' && (!rb_ || delimiter_ != ';');
+  }
+
   void header(std::string_view text) {
     if (text.substr(0, 2) == "\xFF\xFE" || text.substr(0, 2) == "\xFE\xFF" || text.find('\0') != text.npos)
       throw Error(path_ + ": line " + std::to_string(line_no_) +

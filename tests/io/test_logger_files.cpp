@@ -151,6 +151,14 @@ TEST_CASE("delimiters, duplicate names, comment lines between rows", "[io][logge
   const auto d = vehs::read_measurements(p, o);
   CHECK(d.x == std::vector<double>{1, 2, 3});
   CHECK(d.records[0].dt == 0.5);
+  // ';' comment lines (INI-style loggers): before the header, and between rows when ';' is not
+  // the delimiter; with ';' as the delimiter a leading ';' is an empty first field
+  const auto c = temp("vehs_semicolon_comments.csv");
+  std::ofstream(c) << "; Logger v2\n; rate 2 Hz\nt,x\n0,1\n; marker\n0.5,2\n1.0,3\n";
+  CHECK(vehs::read_measurements(c, o).x == std::vector<double>{1, 2, 3});
+  const auto e = temp("vehs_semicolon_empty.csv");
+  std::ofstream(e) << "; Logger v2\nt;x\n0;1\n;2\n";
+  CHECK_THAT(error_of(e, o), Catch::Contains("vehs_semicolon_empty.csv") && Catch::Contains("line 4"));
   const auto q = temp("vehs_dup.csv");
   std::ofstream(q) << "t;x;x\n0;1;2\n";
   CHECK_THAT(error_of(q, o), Catch::Contains("vehs_dup.csv") && Catch::Contains("'x' appears twice"));
