@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "vehs/core/detail/clipped_runs.hpp"
+#include "vehs/core/detail/stepped_runs.hpp"
 #include "vehs/core/drop_samples.hpp"
 
 namespace vehs {
@@ -15,6 +16,9 @@ constexpr std::size_t kMinRun = 5;
 /// A record with this share of its consecutive pairs repeated inside short runs is quantised:
 /// its values repeat legitimately, in long runs at its turning points, so it is not checked.
 constexpr double kQuantisedShare = 1e-3;
+/// ... or with most of its consecutive pairs equal (a noise-free ADC sampled far faster than the
+/// signal moves: every repeat in a long run, 481 samples at a 10-bit bistable's turning point).
+constexpr double kMostlyEqual = 0.5;
 constexpr double kFalseAlarm = 1e-9;  ///< per record, under independent repeats
 
 /// The shortest run flagged in a record of n samples with `equal` equal consecutive pairs.
@@ -60,12 +64,14 @@ std::vector<FlatStretch> find_flat_stretches(const Dataset& data) {
     if (equal + 1 < kMinRun) continue;
     std::vector<FlatStretch> found;
     detail::append_clipped_runs(x, rec.size, k, rec.first_line, found);
-    if (double(in_short_runs) < kQuantisedShare * double(rec.size - 1)) {  // quantised: clipping only
-      std::vector<double> levels;
-      for (const FlatStretch& f : found)
-        if (std::find(levels.begin(), levels.end(), f.x) == levels.end()) levels.push_back(f.x);
+    std::vector<double> levels;  // the clipped levels: every run there is flagged already
+    for (const FlatStretch& f : found)
+      if (std::find(levels.begin(), levels.end(), f.x) == levels.end()) levels.push_back(f.x);
+    const double pairs = double(rec.size - 1);
+    if (double(in_short_runs) < kQuantisedShare * pairs && double(equal) < kMostlyEqual * pairs)
       append_long_runs(x, rec, k, equal, levels, found);
-    }
+    else  // quantised: runs entered or left by a jump (dropouts, held readings)
+      detail::append_stepped_runs(x, rec.size, k, rec.first_line, kMinRun, levels, found);
     std::sort(found.begin(), found.end(), [](const FlatStretch& a, const FlatStretch& b) { return a.sample < b.sample; });
     out.insert(out.end(), found.begin(), found.end());
   }

@@ -25,9 +25,12 @@ KeySpec flat_stretches_key_spec() {
           "Flat stretches: runs of one exactly repeated value of x longer than the record's own repeats "
           "explain (a dropout logged as 0 or as the last value, a stuck or saturated sensor; a run of L "
           "samples when N p^(L-1) < 1e-9 and L >= 5, p the record's share of equal consecutive samples, "
-          "N its length; quantised records, with 1 in 1000 consecutive pairs repeated in shorter runs, are "
-          "checked for clipping only: every run at the record's extreme value when that value holds more than 3x "
-          "the samples of the next value plus 30, in at least 3 runs or one 3x longer than any other run): \"error\" stops naming their lines, \"drop\" cuts each record there (as for "
+          "N its length; quantised records (1 in 1000 consecutive pairs repeated in shorter runs, or most "
+          "pairs equal) are checked for clipping (every run at the record's extreme value when that value holds "
+          "more than 3x the samples of the next value plus 30, in at least 3 runs or one 3x longer than any other "
+          "run) and for runs entered or left by a jump (a step into or out of the run larger than 3 grid steps "
+          "and 4x every increment within max(L, 16) samples around it: a dropout, a reading held while the "
+          "signal moved)): \"error\" stops naming their lines, \"drop\" cuts each record there (as for "
           "glitches), \"keep\" fits them as data.",
           "\"error\""};
 }

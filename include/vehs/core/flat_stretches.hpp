@@ -15,9 +15,12 @@
 // Silverbox: short-run share 3e-5, longest run 2): p = the share of consecutive pairs that are
 // equal (at least 1/N); if repeats were independent with that probability, a run of L equal
 // values would occur with probability about N·p^(L−1); a run is flagged when that is below 1e-9
-// and L ≥ 5. A dropout in a quantised record is therefore not caught. Clipping is caught in every
-// record by the pile-up of samples at its extreme value (vehs/core/detail/clipped_runs.hpp): every
-// run there is flagged, however short.
+// and L ≥ 5. A record with most of its consecutive pairs equal is quantised too (a noise-free ADC
+// far faster than the signal: every repeat in a long run). In a quantised record a dropout or a
+// held reading shows by the jump into or out of its run (vehs/core/detail/stepped_runs.hpp); a
+// reading held at coarse sampling while the signal swings back to near it is not caught. Clipping
+// is caught in every record by the pile-up of samples at its extreme value
+// (vehs/core/detail/clipped_runs.hpp): every run there is flagged, however short.
 #include <cstddef>
 #include <string>
 #include <vector>
