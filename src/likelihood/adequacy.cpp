@@ -45,9 +45,26 @@ std::string moment_fit_doubt(const Model& fit, const Dataset& data, double best_
 
 }  // namespace
 
+double stiffness_omega_dt(const Model& fit, const Dataset& data) {
+  if (data.records.empty() || data.x.empty()) return 0.0;
+  const std::size_t step = std::max<std::size_t>(1, data.x.size() / 100000);
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < data.x.size(); i += step, ++n) {
+    double k = 0.0;  // −∂f/∂x at (x, y = 0, u = 0)
+    for (const auto& tc : fit.drift)
+      if (!tc.term.depends_on_u()) k -= tc.coef * tc.term.d_dx(data.x[i], 0.0);
+    if (std::isfinite(k)) sum += std::max(k, 0.0);
+  }
+  return std::sqrt(sum / double(n)) * data.records.front().dt;
+}
+
 SamplingAdequacy assess_sampling(const Model& fit, const Dataset& data) {
   SamplingAdequacy a;
-  a.omega_dt = dominant_omega_dt(data);
+  a.increments_omega_dt = dominant_omega_dt(data);
+  a.stiffness_omega_dt = stiffness_omega_dt(fit, data);
+  a.omega_dt = std::isfinite(a.increments_omega_dt) ? std::max(a.increments_omega_dt, a.stiffness_omega_dt)
+                                                    : a.increments_omega_dt;
   a.bias = a.omega_dt * a.omega_dt / 12.0;
   a.best_relative_se = std::numeric_limits<double>::infinity();
   for (const auto& tc : fit.drift) {
@@ -61,7 +78,11 @@ SamplingAdequacy assess_sampling(const Model& fit, const Dataset& data) {
     a.reason = "the data's dominant frequency is undefined (constant or too short records)";
     return a;
   }
-  const std::string w = "omega*dt = " + g(a.omega_dt);
+  const std::string w =
+      "omega*dt = " + g(a.omega_dt) +
+      (a.stiffness_omega_dt > a.increments_omega_dt
+           ? " (the fitted drift's stiffness over the data; the increments of x give " + g(a.increments_omega_dt) + ")"
+           : "");
   if (a.omega_dt >= 0.2) {
     a.vouched = false;
     a.reason = w + ": fewer than 31 samples per period, where the expansions' bias is not bounded by (omega*dt)^2/12 = " +

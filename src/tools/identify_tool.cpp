@@ -387,6 +387,8 @@ std::string detrend_hint(const Dataset& data) {
 nlohmann::ordered_json adequacy_json(const Refinement& f) {
   nlohmann::ordered_json j;
   if (std::isfinite(f.adequacy.omega_dt)) j["omega_dt"] = f.adequacy.omega_dt;
+  if (std::isfinite(f.adequacy.increments_omega_dt)) j["increments_omega_dt"] = f.adequacy.increments_omega_dt;
+  if (std::isfinite(f.adequacy.stiffness_omega_dt)) j["stiffness_omega_dt"] = f.adequacy.stiffness_omega_dt;
   j["vouched"] = f.adequacy.vouched;
   j["likelihood"] = f.result ? "used" : "not used";
   j["reason"] = f.adequacy.reason;

@@ -85,3 +85,37 @@ TEST_CASE("auto: from 0.2 radians per sample the likelihood refines whatever the
   CHECK_FALSE(likelihood::assess_sampling(m, cosine(0.05, 0.15)).vouched);
   CHECK(likelihood::assess_sampling(m, cosine(0.05, 0.05)).vouched);   // bias 2e-4 < 0.001
 }
+
+TEST_CASE("auto: the rule's frequency is the larger of the increments' and the fitted drift's "
+          "stiffness over the data (the wells' frequency that hopping hides)", "[likelihood][adequacy]") {
+  // a bistable's x: the variance is mostly the hopping between wells at ±1, so the increments
+  // read a low frequency (here a slow cosine of amplitude 1.2, ω̂Δt 0.02 at Δt 0.35), while the
+  // wells ring at √2 (ω·Δt 0.5): the fitted drift x − x³ has stiffness 3x² − 1 there. An outside
+  // run of issue 12's case at Δt 0.35 had ω̂Δt 0.165, the moment fit vouched for, and a diffusion
+  // x² term at z −13.3 written (bench/identify_coarse_cli.py).
+  Model m = fit_with(SamplingVerdict::ContinuousTime, 1);
+  m.drift_stderr = {{"x", 0.001}, {"x^3", 0.001}, {"y", 0.0001}};
+  Dataset d = cosine(0.35, 0.02);
+  for (double& x : d.x) x *= 1.2;
+  // ω_s² = mean of max(3x² − 1, 0) over x = 1.2 cos θ, by quadrature over θ
+  double sum = 0.0;
+  const int n = 200000;
+  for (int i = 0; i < n; ++i) {
+    const double x = 1.2 * std::cos(2.0 * M_PI * (i + 0.5) / n);
+    sum += std::max(3.0 * x * x - 1.0, 0.0);
+  }
+  const double expected = std::sqrt(sum / n) * 0.35;
+  const likelihood::SamplingAdequacy a = likelihood::assess_sampling(m, d);
+  CHECK(a.increments_omega_dt == Approx(0.02).epsilon(1e-2));
+  // 4000 samples of a cosine over 12.7 periods: the sample mean within 1 % of the period's
+  CHECK(a.stiffness_omega_dt == Approx(expected).epsilon(1e-2));
+  CHECK(a.omega_dt == a.stiffness_omega_dt);
+  CHECK(a.omega_dt > 0.2);
+  CHECK_FALSE(a.vouched);
+  CHECK(a.reason.find("stiffness") != std::string::npos);
+  // the same data finely sampled (Δt 0.01): both frequencies small, vouched
+  for (auto& r : d.records) r.dt = 0.01;
+  const likelihood::SamplingAdequacy fine = likelihood::assess_sampling(m, d);
+  CHECK(fine.stiffness_omega_dt == Approx(expected * 0.01 / 0.35).epsilon(1e-2));
+  CHECK(fine.vouched);
+}

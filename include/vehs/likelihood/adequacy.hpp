@@ -7,7 +7,9 @@
 //    and 2, which is insensitive to white sensor noise: for x = A cos(ωt) + ε,
 //        D_j = Var(x_{k+j} − x_k) = 4 Var(x) sin²(jωΔt/2) + 2σ²,
 //    so (D₂ − D₁)/(4 Var x) = q (3 − 4q) with q = sin²(ω̂Δt/2); for broadband x, ω̂ is the
-//    variance-weighted mean frequency;
+//    variance-weighted mean frequency; the rule takes the larger of ω̂ and the fitted drift's
+//    stiffness frequency ω_s (stiffness_omega_dt: the wells' frequency of a multistable
+//    potential, which hopping hides from ω̂);
 //  * the leading discretisation bias of the second-difference kinematics is relative
 //    (ω̂Δt)²/12 on the restoring force (the h²/12·x'''' term; its damping and Itô-correction
 //    counterparts are of the same order — measured: β −18 % at ω·Δt = 1, bench/results);
@@ -47,7 +49,9 @@
 namespace vehs::likelihood {
 
 struct SamplingAdequacy {
-  double omega_dt = 0.0;          ///< ω̂·Δt (NaN when the data are too short or a constant)
+  double omega_dt = 0.0;             ///< the rule's ω·Δt: the larger of the two below (NaN when the data are too short or a constant)
+  double increments_omega_dt = 0.0;  ///< ω̂·Δt from the increments of x (dominant_omega_dt)
+  double stiffness_omega_dt = 0.0;   ///< ω_s·Δt from the moment fit's drift (stiffness_omega_dt)
   double bias = 0.0;              ///< (ω̂Δt)²/12: relative bias of the expansions
   double best_relative_se = 0.0;  ///< min over drift terms of stderr / |coef| (inf: none stated)
   bool recorded_input = false;    ///< the model has a `u` term
@@ -57,6 +61,15 @@ struct SamplingAdequacy {
 
 /// ω̂·Δt of the data (vehs/core/dominant_frequency.hpp).
 using vehs::dominant_omega_dt;
+
+/// ω_s·Δt with ω_s² the mean over the data's x (at most 10⁵ evenly spaced samples) of the fitted
+/// drift's local stiffness max(−∂f/∂x(x, 0), 0). In a multistable potential x's variance is
+/// mostly the slow hopping between wells, so ω̂ (variance-weighted) reads a frequency well below
+/// the wells' own, where the expansions' bias lives: the bistable Duffing of issue 12 at Δt 0.35
+/// (ω·Δt 0.5 in the wells) has ω̂Δt 0.165, and on one seed of ten the moment fit was vouched for
+/// (its spurious x⁵ had inflated the best relative SE past (ω̂Δt)²/12) with x²·y at z −5.3 and a
+/// diffusion x² term at −13.3 written (bench/identify_coarse_cli.py).
+double stiffness_omega_dt(const Model& fit, const Dataset& data);
 
 /// The largest rate × Δt of the model's hidden states: λΔt of electromechanical_coupling,
 /// Δt/τ of colored_noise (0 without them).
