@@ -36,4 +36,12 @@ inline vehs::Dataset oscillator(std::size_t samples, std::uint32_t seed, std::si
   return d;
 }
 
+/// The same records written as integer counts, round(counts_per_unit · x): an ADC's output.
+inline vehs::Dataset oscillator_counts(std::size_t samples, std::uint32_t seed, std::size_t records, double dt,
+                                       double counts_per_unit) {
+  vehs::Dataset d = oscillator(samples, seed, records, dt);
+  for (double& x : d.x) x = std::round(counts_per_unit * x);
+  return d;
+}
+
 }  // namespace core_test

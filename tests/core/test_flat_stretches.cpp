@@ -9,6 +9,7 @@
 #include "vehs/core/flat_stretches.hpp"
 
 using core_test::oscillator;
+using core_test::oscillator_counts;
 
 TEST_CASE("a dropout logged as 0 and a stuck reading are found at their lines", "[core][flat_stretches][asan]") {
   vehs::Dataset d = oscillator(4000, 21, 3);
@@ -81,8 +82,7 @@ TEST_CASE("a clipped quantised record: every run at the piled-up extreme is flag
   // samples, runs up to 192, shorter than the record's natural runs): not seen before. Here
   // 2 records of 40 time units (about 6 periods each), counts round(100 x) at dt 0.0002 (most
   // consecutive samples equal: quantised) clipped at 80 % of the largest count.
-  vehs::Dataset d = oscillator(200000, 23, 2, 0.0002);
-  for (double& x : d.x) x = std::round(100.0 * x);
+  vehs::Dataset d = oscillator_counts(200000, 23, 2, 0.0002, 100.0);
   double top = 0.0;
   for (double x : d.x) top = std::max(top, x);
   const double clip = std::round(0.8 * top);
@@ -105,14 +105,33 @@ TEST_CASE("a clipped quantised record: every run at the piled-up extreme is flag
   CHECK(vehs::describe_flat_stretches(d, flat).find("clipped?") != std::string::npos);
 }
 
+namespace {
+
+/// `data` with samples [from, from + length) of record `record` set to `value`.
+vehs::Dataset with_run(vehs::Dataset data, std::size_t record, std::size_t from, std::size_t length, double value) {
+  const vehs::Record& r = data.records[record];
+  for (std::size_t i = from; i < from + length; ++i) data.x[r.offset + i] = value;
+  return data;
+}
+
+/// Exactly one stretch, at `sample` of `record`, `length` samples long (a held reading's run
+/// includes its last good sample, before the planted ones).
+void check_one(const std::vector<vehs::FlatStretch>& found, std::size_t record, std::size_t sample, std::size_t length) {
+  REQUIRE(found.size() == 1);
+  CHECK(found[0].record == record);
+  CHECK(found[0].sample == sample);
+  CHECK(found[0].length == length);
+}
+
+}  // namespace
+
 TEST_CASE("a dropout and a held reading in a quantised record: runs entered or left by a jump",
           "[core][flat_stretches]") {
   // an outside check: 50 samples logged as 0, or held at the last reading, in a 12-bit bistable
   // at 20 kHz gave beta 11 039 for 6.28 (and +41 %) with exit 0 (quantised records were checked
   // for clipping only). Here counts round(1000 x) at dt 0.002: increments of 0-3 counts, repeats
   // in short runs and in runs of up to ~100 samples at the turning points.
-  vehs::Dataset d = oscillator(100000, 29, 2, 0.002);
-  for (double& x : d.x) x = std::round(1000.0 * x);
+  vehs::Dataset d = oscillator_counts(100000, 29, 2, 0.002, 1000.0);
   REQUIRE(vehs::find_flat_stretches(d).empty());
   // where the signal moves: the largest increment of record 0 in its second half
   const vehs::Record& r0 = d.records[0];
@@ -122,19 +141,11 @@ TEST_CASE("a dropout and a held reading in a quantised record: runs entered or l
     if (std::abs(x0[i + 1] - x0[i]) > std::abs(x0[moving + 1] - x0[moving])) moving = i;
   INFO("moving at sample " << moving << ", x " << x0[moving] << ", step " << x0[moving + 1] - x0[moving]);
   REQUIRE(std::abs(x0[moving]) > 100.0);  // 0 is a jump away
-  vehs::Dataset zero = d, held = d;
-  for (std::size_t i = moving; i < moving + 50; ++i) zero.x[r0.offset + i] = 0.0;
-  for (std::size_t i = moving + 1; i < moving + 50; ++i) held.x[r0.offset + i] = x0[moving];
-  const auto fz = vehs::find_flat_stretches(zero);
-  REQUIRE(fz.size() == 1);
-  CHECK(fz[0].sample == moving);
-  CHECK(fz[0].length == 50);
+  const auto fz = vehs::find_flat_stretches(with_run(d, 0, moving, 50, 0.0));
+  check_one(fz, 0, moving, 50);
   CHECK(fz[0].x == 0.0);
   CHECK_FALSE(fz[0].clipped);
-  const auto fh = vehs::find_flat_stretches(held);
-  REQUIRE(fh.size() == 1);
-  CHECK(fh[0].sample == moving);
-  CHECK(fh[0].length >= 50);
+  check_one(vehs::find_flat_stretches(with_run(d, 0, moving + 1, 49, x0[moving])), 0, moving, 50);
 }
 
 TEST_CASE("a noise-free ADC sampled far faster than the signal moves: no false alarm, a dropout found",
@@ -143,17 +154,10 @@ TEST_CASE("a noise-free ADC sampled far faster than the signal moves: no false a
   // ~600 samples at the turning points; the share of repeats in short runs is below 1e-3, so the
   // record-wide run-length rule used to flag them: an outside tester's noise-free 10-bit record at
   // 20 kHz, a 481-sample run). Most pairs are equal: the record is read as quantised.
-  vehs::Dataset d = oscillator(100000, 29, 2, 0.0002);
-  for (double& x : d.x) x = std::round(1000.0 * x);
+  vehs::Dataset d = oscillator_counts(100000, 29, 2, 0.0002, 1000.0);
   CHECK(vehs::find_flat_stretches(d).empty());
-  const vehs::Record& r1 = d.records[1];
-  const double* x1 = d.x_of(r1);
+  const double* x1 = d.x_of(d.records[1]);
   std::size_t far = 20000;  // a sample well away from 0
   while (std::abs(x1[far]) < 200.0) ++far;
-  for (std::size_t i = far; i < far + 30; ++i) d.x[r1.offset + i] = 0.0;
-  const auto f = vehs::find_flat_stretches(d);
-  REQUIRE(f.size() == 1);
-  CHECK(f[0].record == 1);
-  CHECK(f[0].sample == far);
-  CHECK(f[0].length == 30);
+  check_one(vehs::find_flat_stretches(with_run(d, 1, far, 30, 0.0)), 1, far, 30);
 }
