@@ -40,6 +40,7 @@ bool RefineOptions::IsValid(std::string* error) const {
   if (max_iterations < 1) return fail("max_iterations must be >= 1");
   if (max_rounds < 1) return fail("max_rounds must be >= 1");
   if (max_added < 0) return fail("max_added must be >= 0");
+  if (!(screen_samples >= 1000.0)) return fail("screen_samples must be >= 1000");
   if (!(step_tolerance > 0.0)) return fail("step_tolerance must be > 0");
   if (warm_start_samples < 1000) return fail("warm_start_samples must be >= 1000");
   if (bias_correction_datasets < 0 || bias_correction_datasets > 1000)

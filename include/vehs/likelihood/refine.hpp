@@ -94,6 +94,10 @@ struct RefineOptions {
   /// damping y, which the likelihood's own standard errors put at 10 SE.
   std::vector<Term> candidate_drift, candidate_diffusion;
   int max_added = 4;
+  /// The forward step's score tests run on at most this many samples (whole records' leading
+  /// shares); when none passes there (z² > max(f·bar, 9) on a share f), the three leading
+  /// candidates are tested again on all the data.
+  double screen_samples = 2e5;
 
   int max_iterations = 20;            ///< Ceres iterations per whitening round
   int max_rounds = 20;                ///< whitening rounds
