@@ -218,7 +218,8 @@ const ConfigSchema& identify_schema() {
            "sampling a continuous process), noisy (ULI on a stride, tolerating white sensor "
            "noise on x), likelihood (the auto moment fit refined by maximum likelihood; see "
            "`likelihood`). With auto the likelihood refines the moment fit whenever the sampling "
-           "cannot vouch for the expansions.",
+           "cannot vouch for the expansions; values on a grid whose rounding makes >= 1 % of the "
+           "acceleration's variance (ADC counts) are never read as an explicit scheme's.",
            "\"auto\""},
           {"likelihood", "object", kLikelihoodHelp, "", true},
           {"stride", "integer",
