@@ -318,7 +318,8 @@ int run_diagnose(Config& c, const AppOptions& app) {
                                             .c_str()
                                       : ("not available: " + comp.test.note).c_str());
     if (!r.suspects.ranked.empty()) {
-      std::printf("suspects (held-out evidence, nats):\n");
+      std::printf("suspects (held-out evidence, nats)%s:\n",
+                  r.suspects.set_aside.empty() ? "" : "; SET ASIDE, not a test on these data (see the report)");
       for (const auto& s : r.suspects.ranked)
         std::printf("  %-26s %10s  z = %6s%s\n", s.effect.c_str(), g(s.evidence).c_str(), g(s.z, 3).c_str(),
                     s.significant ? "  claimed" : "");
