@@ -17,13 +17,11 @@
 #                                          interpolation diagnose's filter applies until it reads
 #                                          the model's; default: the config's band_limited)
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-build="${VEHS_BUILD_DIR:-$root/build}"
+# shellcheck source=../scripts/lib/tools.sh
+source "$(dirname "$0")/../scripts/lib/tools.sh"
 out="$build/silverbox_diagnose${INPUT:+_$INPUT}"
 mkdir -p "$out"
-for exe in identify-vehs simulate-vehs diagnose-vehs; do
-  [ -x "$build/$exe" ] || "$root/scripts/build.sh" "$exe" >/dev/null
-done
+need_tools identify-vehs simulate-vehs diagnose-vehs
 cd "$root"
 lik=()
 [ -n "${INPUT:-}" ] && lik=(--set "likelihood={\"input\": \"$INPUT\", \"covariance\": \"fisher\", \"select\": true, \"criterion\": \"bic\"}")

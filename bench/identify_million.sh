@@ -6,13 +6,11 @@
 # wall and CPU time with the load average.
 #   bench/identify_million.sh        (outputs in build/identify_million/)
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-build="${VEHS_BUILD_DIR:-$root/build}"
+# shellcheck source=../scripts/lib/tools.sh
+source "$(dirname "$0")/../scripts/lib/tools.sh"
 out="$build/identify_million"
 mkdir -p "$out"
-for exe in simulate-vehs identify-vehs; do
-  [ -x "$build/$exe" ] || "$root/scripts/build.sh" "$exe" >/dev/null
-done
+need_tools simulate-vehs identify-vehs
 cd "$out"
 echo '{"drift": {"x": -1.0, "x^3": -1.0, "y": -0.1}, "diffusion": {"1": 0.2}}' >model.json
 echo '{"model": "model.json", "trajectories": 10, "duration": 30000, "dt": 0.3, "substeps": 30, "scheme": "taylor15",

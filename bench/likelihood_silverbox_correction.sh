@@ -5,12 +5,10 @@
 # setting the CPU seconds, wall seconds and load of identify, the RMSEs (mV) and the correction's
 # record in the model file. Run through `bench/likelihood.sh silverbox_correction`.
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-build="${VEHS_BUILD_DIR:-$root/build}"
+# shellcheck source=../scripts/lib/tools.sh
+source "$(dirname "$0")/../scripts/lib/tools.sh"
 cd "$root"
-for exe in identify-vehs simulate-vehs; do
-  [ -x "$build/$exe" ] || "$root/scripts/build.sh" "$exe" >/dev/null
-done
+need_tools identify-vehs simulate-vehs
 for setting in 0 '"auto"'; do
   out="$build/silverbox_correction/$(echo "$setting" | tr -d '"')"
   mkdir -p "$out"

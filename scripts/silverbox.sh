@@ -8,13 +8,11 @@
 #   scripts/silverbox.sh            outputs in build/silverbox/ (model.json, validation.json,
 #                                   validation_series.csv, validation.svg with gnuplot)
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-build="${VEHS_BUILD_DIR:-$root/build}"
+# shellcheck source=lib/tools.sh
+source "$(dirname "$0")/lib/tools.sh"
 out="$build/silverbox"
 mkdir -p "$out"
-for exe in identify-vehs simulate-vehs; do
-  [ -x "$build/$exe" ] || "$root/scripts/build.sh" "$exe" >/dev/null
-done
+need_tools identify-vehs simulate-vehs
 cd "$root"
 "$build/identify-vehs" data/silverbox/identify.json --set "output=\"$out/model.json\"" >"$out/identify.txt" 2>"$out/identify.log" ||
   { tail -1 "$out/identify.log" >&2; exit 1; }
