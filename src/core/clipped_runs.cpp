@@ -64,11 +64,8 @@ void append_clipped_runs(const double* x, std::size_t n, std::size_t record, std
     if (x[i] < hi) below_hi = std::max(below_hi, x[i]);
     if (x[i] > lo) above_lo = std::min(above_lo, x[i]);
   }
-  const std::size_t before = out.size();
   runs_if_piled(x, n, lo, above_lo, lo, hi, record, first_line, out);
   runs_if_piled(x, n, hi, below_hi, lo, hi, record, first_line, out);
-  std::sort(out.begin() + static_cast<long>(before), out.end(),
-            [](const FlatStretch& a, const FlatStretch& b) { return a.sample < b.sample; });
 }
 
 }  // namespace vehs::detail

@@ -169,8 +169,8 @@ std::array<double, 4> colored_autocovariance(const Model& model, double h) {
 
 /// Values on a grid (vehs/core/quantisation.hpp): the smallest central stride at which the
 /// rounding's white noise, 6 (q²/12)/h⁴, is at most the dynamic part (2/3)·a22/h of the lens's
-/// whitening variance (a22 the model's mean over at most 10⁴ of the data's samples, at v = 0);
-/// 1 off a grid. At stride 1 the one-step residuals of fast counts live on a lattice of step
+/// whitening variance (a22 the model's mean over at most 10⁴ of the data's samples, at v = 0),
+/// at most a tenth of the shortest record; 1 off a grid. At stride 1 the one-step residuals of fast counts live on a lattice of step
 /// √2 whose occupation in a (x, v̂) bin depends on the path below one count: an outside tester's
 /// 12-bit Duffing at 20 kHz, its fit and its true model both judged inadequate, one_step
 /// p 1e-61 and 1e-64 (bins of v̂ where the data's residual variance was 1e-6 and the twins'
@@ -185,8 +185,11 @@ int rounding_stride(const Model& model, const Dataset& data, double dt) {
   const double a22 = sum / double(std::max<std::size_t>(n, 1));
   if (!(a22 > 0.0)) return 1;
   const double h = std::cbrt(0.75 * q.step * q.step / a22);  // 6 q²/(12 h⁴) = (2/3) a22/h
-  const double k = std::ceil(h / dt);
-  return k < 1.0 ? 1 : k > 1e4 ? 10000 : static_cast<int>(k);
+  // at most a tenth of the shortest record, so that every record keeps rows for the lens
+  std::size_t shortest = data.records.front().size;
+  for (const Record& r : data.records) shortest = std::min(shortest, r.size);
+  const double k = std::min(std::ceil(h / dt), std::max(1.0, std::floor(double(shortest) / 10.0)));
+  return k < 1.0 ? 1 : static_cast<int>(k);
 }
 
 SamplingChoice choose_sampling_and_lens(const Model& model, const Dataset& data, const Options& opt, Result& res) {

@@ -17,7 +17,8 @@ namespace vehs::detail {
 
 /// Appends to `out` every run at the record's largest (and smallest) value when that value holds
 /// more than 3× the samples of the next value inwards plus 30, in at least 3 separate runs or in
-/// a run more than 3× as long as the longest run at any other value (one clipped excursion).
+/// a run more than 3× as long as the longest run at any other value (one clipped excursion);
+/// the lowest level's runs first (find_flat_stretches sorts them).
 void append_clipped_runs(const double* x, std::size_t n, std::size_t record, std::size_t first_line,
                          std::vector<FlatStretch>& out);
 
