@@ -399,6 +399,12 @@ nlohmann::ordered_json adequacy_json(const Refinement& f) {
 /// A variance rate cannot be negative where the data go: the fit's diffusion terms are not
 /// supported by the data (vehs/core/diffusion_in_data.hpp); the model is not written.
 void require_diffusion_in_data(const Model& m, const Dataset& data, const std::string& where) {
+  const bool any = std::any_of(m.diffusion.begin(), m.diffusion.end(), [](const TermCoef& tc) { return tc.coef != 0.0; });
+  if (!any)
+    throw Error("identify: the selection kept no diffusion term (a22 = 0: no noise) — the data's increments are "
+                "read as noise-free, which a model file cannot hold; look at the data (values rounded to a coarse "
+                "grid, a stretch of repeated values?) or give \"sparsity\": \"none\" with diffusion_library [\"1\"]; " +
+                where + " not written");
   const DiffusionInData low = lowest_diffusion_in_data(m, data, m.fit ? m.fit->stride : 1);
   if (low.negative == 0) return;
   const Record& rec = data.records[low.record];
