@@ -74,10 +74,14 @@ std::string Summary::FullReport() const {
      << "  observations " << observations << " in " << blocks << " blocks, " << parameters
      << " parameters, " << substeps << " RK4 substeps per interval, " << threads << " threads\n"
      << "  covariance: " << covariance << "\n  last Ceres message: " << message << "\n";
-  for (const auto& s : selection)
-    os << "  selection: remove " << s.removed << " (|z| " << s.z << "): 2 dlogL " << s.delta
-       << (s.accepted ? " < " : " >= ") << s.threshold << (s.accepted ? " removed" : " kept")
-       << "\n";
+  for (const auto& s : selection) {
+    const bool add = !s.added.empty();
+    os << "  selection: " << (add ? "add " + s.added : "remove " + s.removed) << " (|z| " << s.z << "): 2 dlogL "
+       << s.delta << (s.by_wald ? " (Wald z^2, no refit)" : "") << ((s.delta < s.threshold) ? " < " : " >= ") << s.threshold
+       << (add ? (s.accepted ? " added" : " not added") : (s.accepted ? " removed" : " kept"));
+    if (s.together > 1) os << " (" << s.together << " terms in one refit)";
+    os << "\n";
+  }
   if (bias_correction_datasets > 0)
     os << "  bias correction: " << bias_correction_datasets << " simulated data sets, largest shift "
        << bias_correction_max_se << " SE (covariance x " << 1.0 + 1.0 / bias_correction_datasets << "), seed "

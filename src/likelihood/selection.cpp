@@ -81,6 +81,84 @@ ObservedModel without(const ObservedModel& m, const ParameterInfo& p, FitChoice&
   return out;
 }
 
+double removal_threshold(const ParameterInfo& p, const RefineOptions& o, double n) {
+  if (o.criterion == SelectionCriterion::Bic) return std::log(n);
+  const bool boundary = p.kind == ParameterKind::MeasurementSd;
+  return chi2_1_upper_quantile(boundary ? 2.0 * o.lr_alpha : o.lr_alpha);
+}
+
+double wald_z(const Result& r, std::size_t i) {
+  return r.stderrs[i] > 0.0 ? std::abs(r.values[i]) / r.stderrs[i] : 0.0;
+}
+
+/// Parameters removed together by remove_block: |z| below this.
+constexpr double kBlockZ = 2.0;
+
+/// The model without every parameter of `block` (indices into r.parameters): within a list the
+/// later terms first, so that the earlier ones' indices stay valid.
+ObservedModel without_all(const Result& r, std::vector<std::size_t> block, FitChoice& choice) {
+  std::sort(block.begin(), block.end(), [&](std::size_t a, std::size_t b) {
+    return r.parameters[a].index > r.parameters[b].index;
+  });
+  ObservedModel out = r.model;
+  for (std::size_t i : block) out = without(out, r.parameters[i], choice);
+  return out;
+}
+
+/// One refit without every removable parameter with |z| < kBlockZ (at least two): true, with
+/// `current` and `choice` replaced and the steps logged, when their joint 2ΔlogL is below the
+/// smallest of their thresholds.
+bool remove_block(Result& current, FitChoice& choice, const Dataset& data, const RefineOptions& o,
+                  const RefineOptions& near, std::vector<SelectionStep>& steps) {
+  const double n = double(current.summary.observations);
+  std::vector<std::size_t> block;
+  double threshold = INFINITY;
+  for (std::size_t i = 0; i < current.parameters.size(); ++i)
+    if (!kept(current.parameters[i], o, current.model.model) && wald_z(current, i) < kBlockZ) {
+      block.push_back(i);
+      threshold = std::min(threshold, removal_threshold(current.parameters[i], o, n));
+    }
+  if (block.size() < 2) return false;
+  FitChoice reduced_choice = choice;
+  Result r;
+  try {
+    r = fit_support(without_all(current, block, reduced_choice), data, near, reduced_choice, false);
+  } catch (const Error&) {
+    return false;  // one at a time then finds the term that cannot go
+  }
+  const double delta = 2.0 * (current.log_likelihood - r.log_likelihood);
+  const bool accepted = delta < threshold;
+  if (o.log) {
+    char line[200];
+    std::snprintf(line, sizeof line, "likelihood selection: remove the %zu terms with |z| < %g together: 2 dlogL %.4g vs %.4g: %s",
+                  block.size(), kBlockZ, delta, threshold, accepted ? "removed" : "one at a time");
+    o.log(line);
+  }
+  if (!accepted) return false;
+  for (std::size_t i : block) {
+    SelectionStep st;
+    st.removed = current.parameters[i].name;
+    st.z = wald_z(current, i);
+    st.log_likelihood = r.log_likelihood;
+    st.delta = delta;
+    st.threshold = threshold;
+    st.accepted = true;
+    st.together = int(block.size());
+    steps.push_back(st);
+  }
+  current = std::move(r);
+  choice = reduced_choice;
+  return true;
+}
+
+void log_removal(const RefineOptions& o, const SelectionStep& st) {
+  if (!o.log) return;
+  char line[256];
+  std::snprintf(line, sizeof line, "likelihood selection: remove %s (|z| %.3g): 2 dlogL %.4g%s vs %.4g: %s", st.removed.c_str(),
+                st.z, st.delta, st.by_wald ? " (Wald z², no refit)" : "", st.threshold, st.accepted ? "removed" : "kept");
+  o.log(line);
+}
+
 }  // namespace
 
 Result select_support(const ObservedModel& start, const Dataset& data, const RefineOptions& o,
@@ -92,6 +170,7 @@ Result select_support(const ObservedModel& start, const Dataset& data, const Ref
   std::vector<SelectionStep> steps;
   if (!o.candidate_drift.empty() || !o.candidate_diffusion.empty()) current = add_terms(std::move(current), data, near, choice, steps);
   const double n = double(current.summary.observations);
+  remove_block(current, choice, data, o, near, steps);
   std::vector<std::string> unremovable;  // terms whose reduced model the filter cannot start
   for (;;) {
     int best = -1;
@@ -100,8 +179,7 @@ Result select_support(const ObservedModel& start, const Dataset& data, const Ref
       const ParameterInfo& p = current.parameters[i];
       if (kept(p, o, current.model.model)) continue;
       if (std::find(unremovable.begin(), unremovable.end(), p.name) != unremovable.end()) continue;
-      const double se = current.stderrs[i];
-      const double z = se > 0.0 ? std::abs(current.values[i]) / se : 0.0;
+      const double z = wald_z(current, i);
       if (best < 0 || z < best_z) {
         best = int(i);
         best_z = z;
@@ -109,11 +187,20 @@ Result select_support(const ObservedModel& start, const Dataset& data, const Ref
     }
     if (best < 0) break;
     const ParameterInfo& p = current.parameters[std::size_t(best)];
-    FitChoice reduced_choice = choice;
-    const ObservedModel reduced = without(current.model, p, reduced_choice);
     SelectionStep st;
     st.removed = p.name;
     st.z = best_z;
+    st.threshold = removal_threshold(p, o, n);
+    if (best_z * best_z > kWaldKeepFactor * st.threshold) {
+      st.delta = best_z * best_z;
+      st.log_likelihood = current.log_likelihood;
+      st.by_wald = true;
+      log_removal(o, st);
+      steps.push_back(st);
+      break;
+    }
+    FitChoice reduced_choice = choice;
+    const ObservedModel reduced = without(current.model, p, reduced_choice);
     Result r;
     try {
       r = fit_support(reduced, data, near, reduced_choice, false);
@@ -129,19 +216,8 @@ Result select_support(const ObservedModel& start, const Dataset& data, const Ref
     }
     st.log_likelihood = r.log_likelihood;
     st.delta = 2.0 * (current.log_likelihood - r.log_likelihood);
-    if (o.criterion == SelectionCriterion::Bic) {
-      st.threshold = std::log(n);
-    } else {
-      const bool boundary = p.kind == ParameterKind::MeasurementSd;
-      st.threshold = chi2_1_upper_quantile(boundary ? 2.0 * o.lr_alpha : o.lr_alpha);
-    }
     st.accepted = st.delta < st.threshold;
-    if (o.log) {
-      char line[256];
-      std::snprintf(line, sizeof line, "likelihood selection: remove %s (|z| %.3g): 2 dlogL %.4g vs %.4g: %s",
-                    st.removed.c_str(), st.z, st.delta, st.threshold, st.accepted ? "removed" : "kept");
-      o.log(line);
-    }
+    log_removal(o, st);
     steps.push_back(st);
     if (!st.accepted) break;
     current = std::move(r);

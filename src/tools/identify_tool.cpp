@@ -150,6 +150,11 @@ Dataset sample_range(const Config& c, const Dataset& data) {
 
 std::string g(double v, int digits = 6) { return vehs::detail::format_number(v, digits); }
 
+std::string removal_note(const likelihood::SelectionStep& st) {
+  if (st.by_wald) return " (Wald z^2, no refit)";
+  return st.together > 1 ? " (with " + std::to_string(st.together - 1) + " other(s) in one refit)" : "";
+}
+
 void print_refinement(const Refinement& f) {
   std::printf("sampling: %s\n", f.adequacy.reason.c_str());
   if (!f.result) {
@@ -163,8 +168,8 @@ void print_refinement(const Refinement& f) {
       std::printf("  selection: add    %-16s |z| %8.3g, 2 dlogL %10.4g vs %.3g: %s\n", st.added.c_str(), st.z, st.delta,
                   st.threshold, st.accepted ? "added" : "not added");
     else
-      std::printf("  selection: remove %-16s |z| %8.3g, 2 dlogL %10.4g vs %.3g: %s\n", st.removed.c_str(), st.z,
-                  st.delta, st.threshold, st.accepted ? "removed" : "kept");
+      std::printf("  selection: remove %-16s |z| %8.3g, 2 dlogL %10.4g vs %.3g: %s%s\n", st.removed.c_str(), st.z,
+                  st.delta, st.threshold, st.accepted ? "removed" : "kept", removal_note(st).c_str());
   std::printf("log L %s, BIC %s; measurement_sd %s\n", g(r.log_likelihood, 10).c_str(), g(r.bic, 10).c_str(),
               g(r.model.measurement_sd, 4).c_str());
 }

@@ -59,4 +59,11 @@ TEST_CASE("bistable Duffing at ω·Δt 0.5 and 1.0, with and without sensor nois
   const Check c = against(r, want);
   CHECK(c.max_z <= z_bound(5, 1.5e-5));
   CHECK(r.summary.converged);
+  // the selection's shortcuts (refine.hpp): a block removal passed its joint 2ΔlogL against the
+  // single threshold; a removal decided without a refit had z² beyond kWaldKeepFactor × threshold
+  for (const auto& st : r.summary.selection) {
+    INFO(st.removed << st.added);
+    if (st.together > 1) CHECK((st.accepted && st.delta < st.threshold && st.z < 2.0));
+    if (st.by_wald) CHECK((!st.accepted && st.z * st.z > likelihood::kWaldKeepFactor * st.threshold));
+  }
 }

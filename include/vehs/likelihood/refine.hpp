@@ -40,7 +40,12 @@
 // free term (or the measurement noise) with the smallest |estimate/SE| is removed and the model
 // refitted; the removal is kept when BIC = −2 log L + k log n does not increase (or, with the
 // likelihood-ratio criterion, when 2ΔlogL is below the χ²₁ quantile at 1 − α; the measurement
-// noise sits on the boundary, so there the ½χ²₀ + ½χ²₁ mixture is used). A term whose removal
+// noise sits on the boundary, so there the ½χ²₀ + ½χ²₁ mixture is used). Two shortcuts save refits
+// without changing what is removed: the free parameters with |z| < 2 are first removed together in
+// one refit, kept removed when their joint 2ΔlogL is below the smallest single threshold (each
+// one-at-a-time step on the way would then have passed: the models are nested, so every step's
+// 2ΔlogL is at most the joint one), else removed one at a time; and a removal whose z² is above
+// kWaldKeepFactor × threshold is kept without a refit (SelectionStep::by_wald). A term whose removal
 // leaves a model the filter cannot start (an unstable or anti-damped drift at the data) is kept
 // and the next candidate tried. Terms in keep_drift /
 // keep_diffusion, diffusion[1] and effect parameters are never removed.
@@ -127,7 +132,13 @@ struct SelectionStep {
   double delta = 0.0;         ///< 2 (log L_before − log L_after); 2 (log L_after − log L_before) when adding
   double threshold = 0.0;     ///< log n (BIC) or the χ² quantile (LR)
   bool accepted = false;
+  int together = 1;           ///< terms removed in one refit with this one (delta is their joint 2ΔlogL)
+  bool by_wald = false;       ///< kept without a refit: z² above kWaldKeepFactor × threshold (delta = z²)
 };
+/// A removal whose Wald z² exceeds this many times the criterion's threshold is decided (kept)
+/// without its refit: 2ΔlogL ≈ z² near the optimum, and a factor 9 (z three times the bar's) leaves
+/// room for the two to differ.
+constexpr double kWaldKeepFactor = 9.0;
 
 struct Summary {
   bool converged = false;
