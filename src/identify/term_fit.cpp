@@ -104,8 +104,20 @@ double rounding_share(const Pilot& diag, const Quantisation& quant, double dt) {
 /// 1 % the grid is a printout's with many decimals (an explicit scheme's output keeps its verdict).
 constexpr double kRoundingMatters = 0.01;
 
+/// An ADC's own white noise beside its rounding, as a multiple of the rounding's variance q²/12:
+/// 1 LSB of noise (12×) is common. The ULI diffusion corrects the rounding only; the rest biases
+/// a22 up by its share of â's variance (16-bit counts at 5 kHz with 0.3 LSB of ADC noise, rounding
+/// 0.9 % of â's variance: 2D +1.2 %, z +3.8 to +6.4 on 4·10⁵ samples, 3 of 4 seeds, exit 0).
+constexpr double kAdcNoiseOverRounding = 12.0;
+
+/// Whether that unknown ADC noise could move a22 by more than its standard error, ≈ √(2/n)
+/// relative on n rows: then the noisy estimator's noise-free diffusion target is used.
+bool adc_noise_matters(double rounding, double rows) {
+  return rounding > 0.0 && kAdcNoiseOverRounding * rounding > std::sqrt(2.0 / std::max(rows, 1.0));
+}
+
 EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested, double omega_dt, double rounding,
-                                   double grid_step) {
+                                   double grid_step, double rows) {
   EstimatorDecision d;
   d.estimator = requested;
   const SamplingRule rule = sampling_rule(diag.rho_k, diag.rho_2k, diag.rho_3k, diag.rows);
@@ -118,6 +130,14 @@ EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested, doubl
     d.reason = "white sensor noise makes up " + fmt(100 * rule.noise_share) +
                " % of the variance of the ULI acceleration (lag-2k autocorrelation " + fmt(diag.rho_2k) +
                " above lag-3k " + fmt(diag.rho_3k) + at + ")";
+  } else if (rule.continuous && adc_noise_matters(rounding, rows)) {
+    d.estimator = Estimator::Noisy;
+    d.reason = "ULI residuals have lag-" + std::string(diag.k > 1 ? "k" : "1") + " autocorrelation " + fmt(diag.rho_k) + at +
+               " (about +1/4: a sensor sampling a continuous-time process); the values lie on a grid of step " +
+               fmt(grid_step) + " whose rounding makes " + fmt(100 * rounding) +
+               " % of the ULI acceleration's variance: an ADC's own noise beside it (up to " + fmt(kAdcNoiseOverRounding) +
+               "x the rounding's variance) would bias the ULI diffusion beyond its standard error on " + fmt(rows) +
+               " rows, so noisy (its diffusion target is free of white noise) used";
   } else if (rule.continuous) {
     d.estimator = Estimator::Uli;
     d.reason = "ULI residuals have lag-" + std::string(diag.k > 1 ? "k" : "1") + " autocorrelation " + fmt(diag.rho_k) + at +
@@ -344,7 +364,7 @@ SamplingStage sampling_stage(const PilotInputs& in, const Options& options) {
   st.diag = in.run(k, options.estimator == Estimator::Noisy ? Target::Noisy : Target::Uli);
   if (options.estimator == Estimator::Auto && options.stride == 0) st.diag = explained_stride_pilot(in, st.diag);
   st.decision = choose_estimator(st.diag, options.estimator, in.omega_dt * st.diag.k,
-                                 rounding_share(st.diag, in.quant, in.dt), in.quant.step);
+                                 rounding_share(st.diag, in.quant, in.dt), in.quant.step, double(in.data.x.size()));
   const Estimator est = st.decision.estimator;
   const Target target = target_of(est);
   const bool central = uses_central_kinematics(est);

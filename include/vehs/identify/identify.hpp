@@ -40,7 +40,11 @@
 //               the recorded step, ≈ +1/4 for a sensor sampling a continuous process; and
 //               ρ_2k ≈ η/6 where η is the share of white sensor noise in â's variance. Picks
 //               noisy when η > 0.05, else uli when ρ_1 + (2/3)η > (1 − η)/8, else forward; the
-//               choice and the figures are reported in the model file.
+//               choice and the figures are reported in the model file. Values on a grid (ADC
+//               counts, printouts) are a sensor's: noisy when the rounding makes ≥ 1 % of â's
+//               variance and the lags read no continuous process, and noisy instead of uli when
+//               12× the rounding's share (an ADC's own noise of up to 1 LSB beside it, which the
+//               ULI target would take for diffusion) exceeds a22's relative SE √(2/rows).
 //  * likelihood — not an estimator of this area: identify-vehs's `estimator: "likelihood"` (or a
 //               `likelihood` block) refines the auto moment fit by maximum likelihood at the
 //               data's own sampling (vehs/likelihood/refine.hpp: same support first, then
