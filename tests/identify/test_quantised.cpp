@@ -128,19 +128,32 @@ TEST_CASE("a bistable in 10-bit counts at 20 kHz: the fit starts from the dither
 // noise (27 % of â's variance), which the rule read as an explicit scheme: forward on 10 of 18
 // such files (12-bit with 1 LSB of ADC noise too), 2D at z −7.6 to −44.6. Values on a grid whose
 // rounding makes ≥ 1 % of â's variance are a sensor's: noisy.
+namespace {
+/// An outside tester's Duffing (10 Hz, β 6.28, k 1000 V⁻²s⁻², σ 223 V/s^1.5) in the counts of a
+/// ±2.5 V converter with the given LSB: its drift and a22 in counts.
+struct DuffingInCounts {
+  double lsb, w = 2.0 * M_PI * 10.0;
+  std::map<std::string, double> drift() const { return {{"x", -w * w}, {"x^3", -1000.0 * lsb * lsb}, {"y", -6.28}}; }
+  double a22() const { return 223.0 * 223.0 / (lsb * lsb); }
+  vehs::Model model() const {
+    nlohmann::json d;
+    for (const auto& [name, value] : drift()) d[name] = value;
+    return vehs::model_from_json(nlohmann::json{{"drift", d}, {"diffusion", {{"1", a22()}}}}, "Duffing in counts");
+  }
+  void check(const vehs::identify::Result& r) const {
+    INFO(r.report.estimator.reason);
+    REQUIRE(r.model.fit);
+    CHECK(r.model.fit->estimator == vehs::Estimator::Noisy);
+    check_truth(r.model, drift(), a22(), 4);
+  }
+};
+}  // namespace
+
 TEST_CASE("counts at a moderate rate are a sensor's, not an explicit scheme's", "[identify][quantised][sensor_grid]") {
-  const double lsb = 5.0 / 1024.0, w = 2.0 * M_PI * 10.0;
-  const vehs::Model truth = vehs::model_from_json(
-      nlohmann::json{{"drift", {{"x", -w * w}, {"x^3", -1000.0 * lsb * lsb}, {"y", -6.28}}},
-                     {"diffusion", {{"1", 223.0 * 223.0 / (lsb * lsb)}}}},
-      "Duffing in counts");
-  vehs::Dataset d = vehs_test::simulate(truth, 1e-3, 20, 4, 3000, seed_or(4104), 0.0, vehs::sim::Scheme::Taylor15);
+  const DuffingInCounts truth{5.0 / 1024.0};
+  vehs::Dataset d = vehs_test::simulate(truth.model(), 1e-3, 20, 4, 3000, seed_or(4104), 0.0, vehs::sim::Scheme::Taylor15);
   for (double& x : d.x) x = std::round(x);
-  const vehs::identify::Result r = vehs::identify::identify(d, true_terms());
-  INFO(r.report.estimator.reason);
-  REQUIRE(r.model.fit);
-  CHECK(r.model.fit->estimator == vehs::Estimator::Noisy);
-  check_truth(r.model, {{"x", -w * w}, {"x^3", -1000.0 * lsb * lsb}, {"y", -6.28}}, 223.0 * 223.0 / (lsb * lsb), 4);
+  truth.check(vehs::identify::identify(d, true_terms()));
 }
 
 // False failure ≤ 1e-4: four estimates within z_limit(4). A Duffing (10 Hz, β 6.28, k 1000,
@@ -151,19 +164,11 @@ TEST_CASE("counts at a moderate rate are a sensor's, not an explicit scheme's", 
 // shape: z +3.8 to +6.4 in 3 of 4 seeds). On a grid whose rounding, times the 12 of an ADC's
 // 1 LSB of noise, exceeds 2D's relative SE, the noisy estimator is used.
 TEST_CASE("16-bit counts with an ADC's own noise beside the rounding: no diffusion bias", "[identify][quantised][adc_noise]") {
-  const double lsb = 5.0 / 65536.0, w = 2.0 * M_PI * 10.0;
-  const vehs::Model truth = vehs::model_from_json(
-      nlohmann::json{{"drift", {{"x", -w * w}, {"x^3", -1000.0 * lsb * lsb}, {"y", -6.28}}},
-                     {"diffusion", {{"1", 223.0 * 223.0 / (lsb * lsb)}}}},
-      "Duffing in 16-bit counts");
+  const DuffingInCounts truth{5.0 / 65536.0};
   const std::uint64_t seed = seed_or(4105);
-  vehs::Dataset d = vehs_test::simulate(truth, 2e-4, 20, 20, 20000, seed, 0.0, vehs::sim::Scheme::Taylor15);
+  vehs::Dataset d = vehs_test::simulate(truth.model(), 2e-4, 20, 20, 20000, seed, 0.0, vehs::sim::Scheme::Taylor15);
   std::mt19937_64 rng(seed + 1);
   std::normal_distribution<double> adc(0.0, 0.35);
   for (double& x : d.x) x = std::round(x + adc(rng));
-  const vehs::identify::Result r = vehs::identify::identify(d, true_terms());
-  INFO(r.report.estimator.reason);
-  REQUIRE(r.model.fit);
-  CHECK(r.model.fit->estimator == vehs::Estimator::Noisy);
-  check_truth(r.model, {{"x", -w * w}, {"x^3", -1000.0 * lsb * lsb}, {"y", -6.28}}, 223.0 * 223.0 / (lsb * lsb), 4);
+  truth.check(vehs::identify::identify(d, true_terms()));
 }
