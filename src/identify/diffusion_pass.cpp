@@ -14,10 +14,14 @@ using Eigen::VectorXd;
 void accumulate_moments(const std::vector<double>& r, std::size_t len, std::size_t avail,
                         const std::vector<int>& lags, int lr_window, ResidualMoments& m) {
   const double* rp = r.data();
-  double r2 = 0.0;
-  for (std::size_t j = 0; j < len; ++j) r2 += rp[j] * rp[j];
+  double r2 = 0.0, r4 = 0.0;
+  for (std::size_t j = 0; j < len; ++j) {
+    const double q = rp[j] * rp[j];
+    r2 += q, r4 += q * q;
+  }
   m.n += static_cast<double>(len);
   m.r2 += r2;
+  m.r4 += r4;
   for (std::size_t l = 0; l < lags.size(); ++l) {
     const auto lag = static_cast<std::size_t>(lags[l]);
     const std::size_t cnt = avail > lag ? std::min(len, avail - lag) : 0;
@@ -170,7 +174,7 @@ void diffusion_pass_span(const Context& cx, const DiffusionSetup& ds, const Span
 void accumulate_kept(const std::vector<double>& r, const std::vector<char>& keep, std::size_t len, std::size_t avail,
                      const std::vector<int>& lags, ResidualMoments& m) {
   for (std::size_t j = 0; j < len; ++j)
-    if (keep[j]) m.n += 1.0, m.r2 += r[j] * r[j];
+    if (keep[j]) m.n += 1.0, m.r2 += r[j] * r[j], m.r4 += r[j] * r[j] * r[j] * r[j];
   for (std::size_t l = 0; l < lags.size(); ++l) {
     const auto lag = static_cast<std::size_t>(lags[l]);
     for (std::size_t j = 0; j < len && j + lag < avail; ++j)

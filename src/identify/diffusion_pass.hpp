@@ -41,9 +41,9 @@ struct DiffusionWeights {
   double floor = 1.0;  // lower bound of a22 in the weights
 };
 
-/// Global residual moments: Σr², Σ r_j r_{j+lag}, and the long-run sums Σ r_j Σ_{l=1..L} r_{j+l}.
+/// Global residual moments: Σr², Σr⁴, Σ r_j r_{j+lag}, and the long-run sums Σ r_j Σ_{l=1..L} r_{j+l}.
 struct ResidualMoments {
-  double n = 0.0, r2 = 0.0, v2 = 0.0;
+  double n = 0.0, r2 = 0.0, r4 = 0.0, v2 = 0.0;
   std::vector<double> lag_sum, lag_n;
   double lr_sum = 0.0;  // Σ r_j Σ_{l=1..L} r_{j+l}
   double wsum = 0.0;    // Σ w_j of standardized residuals √w_j·r_j (standardized_moments; else 0)
@@ -52,6 +52,7 @@ struct ResidualMoments {
   void add(const ResidualMoments& o) {
     n += o.n;
     r2 += o.r2;
+    r4 += o.r4;
     v2 += o.v2;
     lr_sum += o.lr_sum;
     wsum += o.wsum;

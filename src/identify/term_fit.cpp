@@ -297,6 +297,7 @@ ResidualReport residual_report(const ResidualMoments& m, const DiffusionSetup& d
   ResidualReport rr;
   rr.rows = m.n;
   rr.rms = std::sqrt(m.r2 / std::max(m.n, 1.0));
+  if (m.r2 > 0.0 && m.n > 0.0) rr.kurtosis_factor = m.r4 * m.n / (3.0 * m.r2 * m.r2);
   for (std::size_t l = 0; l < ds.lags.size(); ++l) rr.autocorrelation.emplace_back(ds.lags[l], m.autocorrelation(l));
   rr.expected_lag_k = ds.target == Target::Uli ? 0.25 : ds.target == Target::Noisy ? kNaN : 0.0;
   rr.long_run_factor_drift = pilot.drift_lr;
@@ -491,7 +492,9 @@ std::size_t shortest_record(const Dataset& data) {
 
 }  // namespace
 
-Result identify_terms(const Dataset& data, const Options& options) {
+namespace {
+
+Result identify_terms_once(const Dataset& data, const Options& options) {
   const auto t_start = std::chrono::steady_clock::now();
   const double* known = options.known_force ? options.known_force->data() : nullptr;
   Dictionaries dict = make_dictionaries(options);
@@ -581,6 +584,57 @@ Result identify_terms(const Dataset& data, const Options& options) {
   if (!options.effects.empty()) rep.effect_params = effect_parameters(res.model, options.effects);
   rep.fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   return res;
+}
+
+/// White sensor noise of share η in â's variance lowers the ULI residuals' lag-k autocorrelation
+/// from 1/4 to 1/4 − (11/12)η, and the ULI diffusion, which takes the noise for diffusion, is
+/// then about η too high. The pilot's lag-2k reading (sampling_rule) resolves η only to ≈ 8.5/√rows
+/// (2.7 % on its 2.5·10⁵ rows) and its lag-k reading moves with ω·h, while over all the rows of
+/// the final fit lag k sits at 1/4 within ≈ 1/√rows on clean continuous-time records (0.2485–0.2503
+/// on 4·10⁵ rows of a Duffing at ω·h 0.013–0.19). Float records of that Duffing with white noise
+/// of 0.004 % of sd(x) at 5 kHz read 0.230–0.233 there (η ≈ 2 %), and the ULI fit wrote 2D at
+/// z +7.5 to +10.9 with exit 0. The share read from lag k; NaN when the fit is not auto's ULI.
+double residual_noise_share(const Result& r, const Options& options) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (options.estimator != Estimator::Auto || options.stride != 0 || !r.model.fit || r.model.fit->estimator != Estimator::Uli)
+    return nan;
+  const double rho = r.report.residuals.autocorrelation_at(r.model.fit->stride);
+  return std::isfinite(rho) ? (12.0 / 11.0) * (0.25 - rho) : nan;
+}
+
+/// The standard error of the lag-k autocorrelation of the ULI residuals, an MA(1) with ρ 1/4:
+/// Bartlett's √((1 − 3ρ² + 4ρ⁴)/rows), times √κ for a state-dependent variance (κ =
+/// E[r⁴]/(3E[r²]²), ≥ 1 taken).
+double lag_k_se(const ResidualReport& rr) {
+  return std::sqrt((1.0 - 3.0 / 16.0 + 4.0 / 256.0) * std::max(rr.kurtosis_factor, 1.0) / std::max(rr.rows, 1.0));
+}
+
+/// Noise is read when lag k is 4 of its standard errors below 1/4 (a clean fit is sent to noisy,
+/// unbiased but with a22's SE about 1.35× the ULI one, with probability 3·10⁻⁵). The bias left
+/// below that bar: up to ≈ 1.6 SE of a22 per SE of lag k (outside testers' 16-bit counts at 1 kHz
+/// with 0.3 LSB of ADC noise: lag k 2.4σ low, 2D z +3.8).
+bool residual_noise_matters(double eta, const ResidualReport& rr) {
+  return (11.0 / 12.0) * eta > 4.0 * lag_k_se(rr);
+}
+
+}  // namespace
+
+Result identify_terms(const Dataset& data, const Options& options) {
+  Result r = identify_terms_once(data, options);
+  const double eta = residual_noise_share(r, options);
+  const double rows = r.report.residuals.rows;
+  if (!(std::isfinite(eta) && residual_noise_matters(eta, r.report.residuals))) return r;
+  Options noisy = options;
+  noisy.estimator = Estimator::Noisy;
+  Result n = identify_terms_once(data, noisy);
+  n.report.estimator.requested = Estimator::Auto;
+  n.report.estimator.reason = r.report.estimator.reason + "; but the ULI fit's residuals over all " + std::to_string(static_cast<long long>(rows)) +
+                              " rows have lag-k autocorrelation " + fmt(0.25 - (11.0 / 12.0) * eta) +
+                              ", below 1/4 by " + fmt((11.0 / 12.0) * eta / lag_k_se(r.report.residuals)) +
+                              " SE: white sensor noise of about " + fmt(100.0 * eta) +
+                              " % of the ULI acceleration's variance, which the ULI diffusion would take for "
+                              "diffusion; noisy (a diffusion target free of white noise) used";
+  return n;
 }
 
 }  // namespace vehs::identify::detail

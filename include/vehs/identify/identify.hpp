@@ -45,6 +45,11 @@
 //               variance and the lags read no continuous process, and noisy instead of uli when
 //               12× the rounding's share (an ADC's own noise of up to 1 LSB beside it, which the
 //               ULI target would take for diffusion) exceeds a22's relative SE √(2/rows).
+//               After a ULI fit chosen so, the residuals' lag-k autocorrelation over all rows
+//               reads white noise the pilot cannot resolve: ρ_k = 1/4 − (11/12)η; when it is
+//               below 1/4 by more than 4 of its standard errors (√(0.83κ/rows), κ the
+//               residuals' E[r⁴]/(3E[r²]²)), the data are refitted with noisy (the estimator's
+//               reason says so).
 //  * likelihood — not an estimator of this area: identify-vehs's `estimator: "likelihood"` (or a
 //               `likelihood` block) refines the auto moment fit by maximum likelihood at the
 //               data's own sampling (vehs/likelihood/refine.hpp: same support first, then

@@ -33,6 +33,9 @@ struct EstimatorChoice {
 struct ResidualReport {
   double rows = 0.0;
   double rms = 0.0;
+  /// E[r⁴]/(3 E[r²]²): 1 for Gaussian residuals of one variance, more for a state-dependent one
+  /// (the variance of a sample autocorrelation grows by this factor).
+  double kurtosis_factor = 1.0;
   std::vector<std::pair<int, double>> autocorrelation;  ///< (lag in samples, ρ)
   /// ρ at lag k expected for the estimator: 1/4 for uli, 0 for forward and paper, NaN for noisy.
   double expected_lag_k = std::numeric_limits<double>::quiet_NaN();
