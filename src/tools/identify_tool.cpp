@@ -398,6 +398,7 @@ nlohmann::ordered_json adequacy_json(const Refinement& f) {
   j["vouched"] = f.adequacy.vouched;
   j["likelihood"] = f.result ? "used" : "not used";
   j["reason"] = f.adequacy.reason;
+  if (!f.input_reason.empty()) j["input"] = f.input_reason;
   return j;
 }
 
@@ -422,6 +423,18 @@ void require_diffusion_in_data(const Model& m, const Dataset& data, const std::s
               std::to_string(low.samples) + " samples): the data do not support the diffusion terms " + terms +
               " (a variance rate is >= 0); a smaller diffusion_library (e.g. [\"1\"]) or a look at the data "
               "(quantised, clipped?); " + where + " not written");
+}
+
+/// The effects' parameters of the model the likelihood refined (the moment fit's are left in
+/// `dynamic_fit` and `selection` only): a model file with two values of one parameter, μ 0.0405
+/// under effect_params beside sign(y) −0.0519 in the drift, misled an outside tester.
+void refresh_effect_params(identify::Result& r, const std::vector<Effect>& requested) {
+  std::vector<Effect> term_like;
+  for (const Effect& e : requested)
+    if (effect_spec(e.id).term_like) term_like.push_back(e);
+  std::vector<Effect> params = identify::effect_parameters(r.model, term_like);
+  for (const Effect& e : r.model.effects) params.push_back(e);
+  r.report.effect_params = std::move(params);
 }
 
 }  // namespace
@@ -455,6 +468,7 @@ IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressC
   quiet.progress = {};
   fit.refinement = refine_moment_fit(fit.result.model, data, lik,
                                      [&](const Dataset& one) { return identify::identify(one, quiet).model; });
+  if (fit.refinement.result) refresh_effect_params(fit.result, o.effects);
   return fit;
 }
 

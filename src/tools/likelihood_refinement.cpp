@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "vehs/core/error.hpp"
+#include "vehs/likelihood/input_reading.hpp"
 #include "vehs/likelihood/record_phase_start.hpp"
 #include "vehs/likelihood/signals.hpp"
 
@@ -20,7 +21,10 @@ const char* const kLikelihoodHelp =
     "increments of x, insensitive to sensor noise; see vehs/likelihood/adequacy.hpp). Keys: "
     "use (\"auto\", \"always\", \"never\"; default \"always\" when the block is given), input "
     "(how the recorded input is applied between samples: \"zoh\", \"linear\", \"cubic\", "
-    "\"band_limited\"; carried in the model file and used by simulate-vehs and its validation), "
+    "\"band_limited\", or \"auto\" (default): band_limited when less than 10 % of the input's power lies "
+    "above 3/4 of the Nyquist frequency (a smooth signal that was sampled, e.g. a measured base "
+    "acceleration), else zoh (a sequence held by a DAC); carried in the model file and used by "
+    "simulate-vehs, its validation and diagnose-vehs), "
     "select (true: forward steps by the score test over the drift and diffusion libraries, then backward elimination, by the criterion), "
     "criterion (\"bic\" or \"lr\": likelihood-ratio test at level lr_alpha, default 1e-3), "
     "covariance (standard errors: \"observed\" information, \"fisher\", \"sandwich\"), "
@@ -75,7 +79,9 @@ LikelihoodSettings likelihood_settings(const Config& c) {
   s.use = use_from_string(l, "use", l.string_or("use", "always"));
   if (estimator == "likelihood" && s.use != LikelihoodUse::Always)
     l.fail("use", "contradicts estimator \"likelihood\"");
-  o.filter.input = enum_from_string(kInputInterpolationNames, l.string_or("input", "zoh"), l.where("input"));
+  const std::string input = l.string_or("input", "auto");
+  s.input_auto = input == "auto";
+  if (!s.input_auto) o.filter.input = enum_from_string(kInputInterpolationNames, input, l.where("input"));
   o.select = l.boolean_or("select", true);
   o.criterion = enum_from_string(likelihood::kSelectionCriterionNames, l.string_or("criterion", "bic"),
                                  l.where("criterion"));
@@ -124,6 +130,12 @@ Refinement refine_moment_fit(Model& model, const Dataset& data, const Likelihood
                    (settings.use == LikelihoodUse::Auto && !out.adequacy.vouched);
   if (!use) return out;
   likelihood::RefineOptions o = settings.options;
+  if (settings.input_auto && model.uses_drive() && data.has_u()) {
+    const likelihood::InputReading reading = likelihood::read_input_interpolation(data);
+    o.filter.input = reading.input;
+    out.input_reason = reading.reason;
+    if (o.log) o.log("likelihood: input " + enum_to_string(kInputInterpolationNames, reading.input) + " (auto: " + reading.reason + ")");
+  }
   check_input_interpolation(o.filter.input, data, model.uses_drive(), "likelihood.input");
   likelihood::ObservedModel start{model, 0.0, {}};
   if (model.fit) start.measurement_sd = model.fit->sampling.sensor_noise_sd;

@@ -19,6 +19,9 @@ enum class LikelihoodUse { Auto, Always, Never };
 struct LikelihoodSettings {
   LikelihoodUse use = LikelihoodUse::Auto;
   likelihood::RefineOptions options;
+  /// `input: "auto"` (the default): how a recorded input was applied is read from its spectrum
+  /// (vehs/likelihood/input_reading.hpp) instead of options.filter.input.
+  bool input_auto = true;
 };
 
 /// B of `bias_correction: "auto"` (the default): B data sets when the final fit estimates the
@@ -40,6 +43,7 @@ std::string moment_estimator_name(const Config& c);
 struct Refinement {
   likelihood::SamplingAdequacy adequacy;
   std::optional<likelihood::Result> result;  ///< set when the likelihood was used
+  std::string input_reason;  ///< why the input interpolation (set when `input: "auto"` chose it)
 };
 
 /// The moment fit of a data set (identify with the config's options), for per-record starts.

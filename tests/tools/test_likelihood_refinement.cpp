@@ -227,6 +227,13 @@ TEST_CASE("identify-vehs: harmonic forcing with one phase per record (amplitude 
   REQUIRE(lf.record_phases.size() == 4);
   const Effect* h = f.model.find_effect(EffectId::HarmonicForcing);
   REQUIRE(h);
+  // effect_params lists the refined forcing, not the moment fit's (an outside tester read an
+  // amplitude of 0.0167 there beside 0.0717 under effects)
+  const nlohmann::json file = nlohmann::json::parse(std::ifstream(work_dir() / "phases_model.json"));
+  REQUIRE(file.contains("effect_params"));
+  REQUIRE(file["effect_params"].size() == 1);
+  CHECK(file["effect_params"][0]["params"]["amplitude"].get<double>() == h->params.at("amplitude"));
+  CHECK(file["effect_params"][0]["stderr"]["amplitude"].get<double>() == h->stderr_.at("amplitude"));
   // amplitude, omega and the four phases against the truth, Bonferroni over 6 z's (the
   // likelihood's SEs are calibrated: bench/results/likelihood_effects.txt), false-failure
   // probability 1e-4 per run

@@ -48,7 +48,8 @@
 // kWaldKeepFactor × threshold is kept without a refit (SelectionStep::by_wald). A term whose removal
 // leaves a model the filter cannot start (an unstable or anti-damped drift at the data) is kept
 // and the next candidate tried. Terms in keep_drift /
-// keep_diffusion, diffusion[1] and effect parameters are never removed.
+// keep_diffusion, diffusion[1] and effect parameters are never removed, nor the linear stiffness x
+// and damping y of a model with an electromechanical state (which would stand in for them).
 #include <cstddef>
 #include <cstdint>
 #include <functional>
