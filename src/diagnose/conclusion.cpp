@@ -24,7 +24,7 @@ std::string join(const std::vector<std::string>& v, const std::string& sep) {
 std::vector<Candidate> significant_suspects(const Result& res) {
   std::vector<Candidate> out;
   // a forcing with one phase per record is refitted so only when it is the more significant form
-  auto add = [&](const std::string& name, const std::string& evidence) {
+  auto add = [&](const std::string& name, const std::string& evidence, double all_data_z) {
     const bool per_record = name == "harmonic_forcing_per_record";
     const EffectId id = enum_from_string(kEffectNames, per_record ? "harmonic_forcing" : name, "suspect");
     for (Candidate& c : out)
@@ -32,13 +32,25 @@ std::vector<Candidate> significant_suspects(const Result& res) {
         c.evidence += "; " + evidence;
         return;
       }
-    out.push_back({id, evidence, per_record});
+    out.push_back({id, evidence, per_record, all_data_z});
   };
+  const double none = std::numeric_limits<double>::quiet_NaN();
   for (const auto& s : res.score_suspects.ranked)
-    if (s.significant) add(s.effect, (s.effect == "harmonic_forcing_per_record" ? "score test (one phase per record) z = " : "score test z = ") + fmt(s.z));
+    if (s.significant)
+      add(s.effect, (s.effect == "harmonic_forcing_per_record" ? "score test (one phase per record) z = " : "score test z = ") + fmt(s.z),
+          s.z);
   for (const auto& s : res.suspects.ranked)
-    if (s.significant) add(s.effect, "held-out z = " + fmt(s.z));
+    if (s.significant) add(s.effect, "held-out z = " + fmt(s.z), none);
   return out;
+}
+
+/// " — not resolved by these data from quadratic_damping" for a member of an unresolved
+/// look-alike group of the score tests (score_suspects.hpp), else "".
+std::string unresolved_from(const Result& res, const std::string& effect) {
+  for (const auto& s : res.score_suspects.ranked)
+    if (s.effect == effect && !s.not_resolved_from.empty())
+      return " — not resolved by these data from " + join(s.not_resolved_from, ", ");
+  return "";
 }
 
 /// "one_step, drift_shape and residual_spectrum fail (smallest p 1e-52)".
@@ -90,17 +102,19 @@ void conclude(Result& res, bool confirmed_by_refits) {
                      (confirmed_by_refits ? " (not confirmed by refits: " + c.note + ")" : "");
     return;
   }
-  std::vector<const Confirmation*> confirmed;  // the largest held-out gain first (the order of confirm_jointly)
+  std::vector<const Confirmation*> confirmed;  // the order of confirm_jointly: all-data ranking, then held-out gain
   for (const Confirmation& e : c.effects)
     if (e.confirmed) confirmed.push_back(&e);
   std::stable_sort(confirmed.begin(), confirmed.end(), [](const Confirmation* a, const Confirmation* b) {
-    return a->loglik_gain > b->loglik_gain || (std::isnan(b->loglik_gain) && !std::isnan(a->loglik_gain));
+    const bool sa = std::isfinite(a->all_data_z), sb = std::isfinite(b->all_data_z);
+    if (sa != sb) return sa;
+    return !sa && (a->loglik_gain > b->loglik_gain || (std::isnan(b->loglik_gain) && !std::isnan(a->loglik_gain)));
   });
   std::vector<std::string> details;
   for (const Confirmation* e : confirmed) {
     res.recommended.push_back(e->effect);
     details.push_back(e->effect + (e->per_record_phase ? " with one phase per record" : "") + " (" +
-                      e->reason.substr(e->reason.find(':') + 2) + ")");
+                      e->reason.substr(e->reason.find(':') + 2) + ")" + unresolved_from(res, e->effect));
   }
   if (!res.recommended.empty()) {
     res.conclusion = "inadequate — add " + join(details, "; ");

@@ -28,6 +28,7 @@ std::string ConfirmationOptions::invalid_reason() const {
   if (!(holdout > 0.05 && holdout < 0.95)) return "confirm.holdout must be in (0.05, 0.95)";
   if (blocks < 3) return "confirm.blocks must be >= 3";
   if (!(z_threshold > 0.0) || !std::isfinite(z_threshold)) return "confirm.z_threshold must be > 0";
+  if (!(consistency_margin > 0.0) || !std::isfinite(consistency_margin)) return "confirm.consistency_margin must be > 0";
   if (!(max_samples >= 0.0)) return "confirm.max_samples must be >= 0";
   if (max_effects < 1) return "confirm.max_effects must be >= 1";
   return "";
@@ -85,6 +86,17 @@ struct Refit {
   std::vector<double> record_phases;  ///< harmonic phase per training record (empty: shared)
 };
 
+/// How the refits are made and judged: by the likelihood and the filter (a model refined by the
+/// likelihood, or data the lens reads as a continuous-time process), else moment fits judged by
+/// the held-out suspects' drift contrast (scheme-consistent data).
+bool refits_by_likelihood(const Model& model, const Lens& lens) {
+  return (model.fit && model.fit->likelihood) || lens.kinematics == Kinematics::Central;
+}
+
+InputInterpolation input_of(const Model& model) {
+  return model.fit ? model.fit->input : InputInterpolation::ZeroOrderHold;
+}
+
 Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const std::vector<Effect>& added,
                bool added_per_record = false) {
   identify::Options io = refit_options(model, lens);
@@ -92,28 +104,31 @@ Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const
   Refit out;
   out.model = identify::identify(train, io).model;
   out.measurement_sd = lens.sensor_noise_sd;
-  if (!model.fit || !model.fit->likelihood) return out;
-  // the model was refined by maximum likelihood: so is the refit (support fixed)
-  const LikelihoodFit& lf = *model.fit->likelihood;
-  const std::vector<double> phases = leading_record_phases(model, train.records.size(), "confirmation");
+  if (!refits_by_likelihood(model, lens)) return out;
+  // refined by maximum likelihood, the support fixed: with the model's measurement noise and
+  // forcing phases when it was so fitted, else from the moment refit with the lens's noise
+  const LikelihoodFit* lf = model.fit && model.fit->likelihood ? &*model.fit->likelihood : nullptr;
+  const double noise_sd = lf ? lf->measurement_sd : lens.sensor_noise_sd;
+  const std::vector<double> phases =
+      lf ? leading_record_phases(model, train.records.size(), "confirmation") : std::vector<double>{};
   if (!phases.empty())  // identify's moment fit has one shared phase: start from the model's forcing
     for (Effect& e : out.model.effects)
       if (e.id == EffectId::HarmonicForcing) e.params = model.find_effect(EffectId::HarmonicForcing)->params;
-  likelihood::ObservedModel start{out.model, lf.measurement_sd, phases};
+  likelihood::ObservedModel start{out.model, noise_sd, phases};
   likelihood::RefineOptions ro;
-  ro.filter.input = model.fit->input;
+  ro.filter.input = input_of(model);
   if (phases.empty() && added_per_record)  // each record's own moment fit: its phase (as identify-vehs)
     likelihood::start_record_phases(start, train, [&](const Dataset& one) { return identify::identify(one, io).model; },
                                     ro.filter);
   ro.covariance = likelihood::Covariance::Fisher;
-  ro.estimate_measurement_noise = lf.measurement_sd > 0.0;
-  ro.measurement_sd_start = lf.measurement_sd;
+  ro.estimate_measurement_noise = noise_sd > 0.0;
+  ro.measurement_sd_start = noise_sd;
   ro.per_record_phase = !start.record_phases.empty();
   const likelihood::Result r = likelihood::refine(start, train, ro);
   const std::optional<FitInfo> fit = out.model.fit;
   out.model = r.model.model;
   out.model.fit = fit;
-  if (out.model.fit) out.model.fit->input = model.fit->input;
+  if (out.model.fit) out.model.fit->input = input_of(model);
   out.measurement_sd = r.model.measurement_sd;
   out.record_phases = r.model.record_phases;
   return out;
@@ -174,17 +189,62 @@ double total(const std::vector<double>& v) {
 
 double mean_rmse(const std::vector<double>& sq) { return sq.empty() ? Confirmation::kNaN : std::sqrt(total(sq) / double(sq.size())); }
 
+/// The samples the split uses (training and held out).
+std::size_t data_samples(const Split& s) { return s.train.total_samples() + s.held.total_samples(); }
+
+/// The variance of x about each held-out piece's own mean, pooled over the pieces.
+double pooled_piece_variance(const Dataset& held) {
+  double ss = 0.0;
+  std::size_t n = 0;
+  for (const Record& r : held.records) {
+    const double* x = held.x_of(r);
+    double mean = 0.0;
+    for (std::size_t i = 0; i < r.size; ++i) mean += x[i];
+    mean /= double(std::max<std::size_t>(r.size, 1));
+    for (std::size_t i = 0; i < r.size; ++i) ss += (x[i] - mean) * (x[i] - mean);
+    n += r.size;
+  }
+  return n > 1 ? ss / double(n - 1) : Confirmation::kNaN;
+}
+
 std::vector<double> difference(const std::vector<double>& a, const std::vector<double>& b) {
   std::vector<double> d(a.size());
   for (std::size_t i = 0; i < a.size(); ++i) d[i] = a[i] - b[i];
   return d;
 }
 
-/// The one-step criterion from the filter's held-out log-likelihood, else (`heldout`: a model
-/// not fitted by likelihood) from the held-out suspect's drift contrast (suspects.hpp), which
-/// refitted the effect by identify on the same training share.
-void judge(Confirmation& c, const PieceScores& base, const PieceScores& with, const Suspect* heldout, bool driven,
-           double z_threshold) {
+/// What the split is judged by (confirmation.hpp, "decision").
+struct Judging {
+  double z_threshold = 2.0;
+  double consistency_margin = 2.5;
+  double heldout_share = 0.3;   ///< f
+  bool driven = false;
+  bool free_run_informative = false;
+};
+
+/// The one-step criterion met: by z_threshold, or — with all-data evidence (c.all_data_z) and
+/// the filter's criterion — by consistency with that evidence (c.expected_z within the margin,
+/// and not worse than the baseline).
+bool one_step_met(Confirmation& c, bool filter, const Judging& j) {
+  if (c.loglik_gain > 0.0 && c.loglik_z > j.z_threshold) return true;
+  if (!filter || !std::isfinite(c.all_data_z) || !std::isfinite(c.loglik_z)) return false;
+  c.expected_z = expected_heldout_z(c.all_data_z, j.heldout_share);
+  c.by_consistency = c.loglik_z > -j.z_threshold && c.loglik_z >= c.expected_z - j.consistency_margin &&
+                     c.refit_innovations.empty();
+  return c.by_consistency;
+}
+
+/// The free-run criterion met: an improvement by z_threshold where the free run is informative,
+/// else no significant worsening.
+bool free_run_met(const Confirmation& c, const Judging& j) {
+  if (j.free_run_informative) return c.rmse_effect < c.rmse_baseline && c.rmse_z > j.z_threshold;
+  return c.rmse_z > -j.z_threshold;
+}
+
+/// The one-step criterion from the filter's held-out log-likelihood, else (`heldout`: moment
+/// refits of scheme-consistent data) from the held-out suspect's drift contrast (suspects.hpp),
+/// which refitted the effect by identify on the same training share.
+void judge(Confirmation& c, const PieceScores& base, const PieceScores& with, const Suspect* heldout, const Judging& j) {
   if (heldout) {
     c.loglik_gain = heldout->evidence;
     c.loglik_z = heldout->z;
@@ -193,19 +253,24 @@ void judge(Confirmation& c, const PieceScores& base, const PieceScores& with, co
     c.loglik_gain = total(gain);
     c.loglik_z = block_z(gain);
   }
-  const bool likelihood_ok = c.loglik_gain > 0.0 && c.loglik_z > z_threshold;
+  const bool one_step_ok = one_step_met(c, heldout == nullptr, j);
   bool run_ok = true;
-  if (driven) {
+  if (j.driven) {
     const std::vector<double> drop = difference(base.sq_error, with.sq_error);
     c.rmse_baseline = mean_rmse(base.sq_error);
     c.rmse_effect = mean_rmse(with.sq_error);
     c.rmse_z = block_z(drop);
-    run_ok = c.rmse_effect < c.rmse_baseline && c.rmse_z > z_threshold;
+    run_ok = free_run_met(c, j);
   }
-  c.confirmed = likelihood_ok && run_ok;
+  c.confirmed = one_step_ok && run_ok;
   std::string why = std::string(heldout ? "held-out drift contrast " : "held-out one-step log-likelihood ") + std::string(c.loglik_gain >= 0 ? "+" : "") +
                     fmt(c.loglik_gain) + " nats (z " + fmt(c.loglik_z) + ")";
-  if (driven)
+  if (std::isfinite(c.expected_z) && !c.refit_innovations.empty())
+    why += "; the refit's held-out innovations show what no catalogue effect added explains: " + c.refit_innovations;
+  else if (std::isfinite(c.expected_z))
+    why += std::string(c.by_consistency ? ", in line with" : ", far below") + " the z " + fmt(c.expected_z) +
+           " that the all-data score test (z " + fmt(c.all_data_z) + ") predicts for this held-out share";
+  if (j.driven)
     why += ", free-run RMSE " + fmt(c.rmse_baseline) + " -> " + fmt(c.rmse_effect) + " (z of the drop " + fmt(c.rmse_z) + ")";
   c.reason = (c.confirmed ? "confirmed: " : "not confirmed: ") + why;
 }
@@ -219,17 +284,23 @@ void fill_params(Confirmation& c, const Model& m, EffectId id) {
 }
 
 /// Effects confirmed one at a time can be one explanation twice (a y³ damping absorbs part of a
-/// hidden Coulomb friction: both improve on the baseline). The one with the largest held-out
-/// gain stays confirmed; each further one, in the order of its gain, must improve on the refit
-/// with those kept before it by the same criterion, else it is not confirmed ("adds nothing
-/// beyond …"). Needs the filter's criterion (a model fitted by the likelihood).
+/// hidden Coulomb friction: both improve on the baseline). The first in the all-data ranking
+/// stays confirmed (held-out evidence only: the largest gain); each further one must improve on
+/// the refit with those kept before it by z_threshold, else it is not confirmed ("adds nothing
+/// beyond …"). Needs the filter's criterion (refits by the likelihood).
 void confirm_jointly(ConfirmationReport& rep, const std::vector<PieceScores>& alone_scores, const Model& model,
-                     const Lens& lens, const Split& split, InputInterpolation input, const ConfirmationOptions& o) {
+                     const Lens& lens, const Split& split, const Judging& judging, const ConfirmationOptions& o) {
+  const InputInterpolation input = input_of(model);
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < rep.effects.size(); ++i)
     if (rep.effects[i].confirmed) order.push_back(i);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return rep.effects[a].loglik_gain > rep.effects[b].loglik_gain; });
+  // the all-data evidence first, in its ranking (score tests by p, look-alikes as their refits'
+  // likelihood ratio ordered them: better evidence than a 30 % share), then held-out evidence by gain
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    const bool sa = std::isfinite(rep.effects[a].all_data_z), sb = std::isfinite(rep.effects[b].all_data_z);
+    if (sa != sb) return sa;
+    return !sa && rep.effects[a].loglik_gain > rep.effects[b].loglik_gain;
+  });
   if (order.size() < 2) return;
   std::vector<Effect> kept{Effect{enum_from_string(kEffectNames, rep.effects[order[0]].effect, "effect"), {}, {}}};
   std::string kept_names = rep.effects[order[0]].effect;
@@ -251,7 +322,7 @@ void confirm_jointly(ConfirmationReport& rep, const std::vector<PieceScores>& al
       PieceScores with = score_pieces(refit_on(model, lens, split.train, with_effects, per_record || c.per_record_phase),
                                       split, input, true, rep.driven, o.free_run_skip);
       with.trace = {};
-      judge(joint, kept_scores, with, nullptr, rep.driven, o.z_threshold);
+      judge(joint, kept_scores, with, nullptr, judging);  // no all-data evidence beyond the kept: z_threshold
       if (joint.confirmed) {
         c.reason = "confirmed: " + alone + "; beyond " + kept_names + ": " + joint.reason.substr(joint.reason.find(':') + 2);
         kept = std::move(with_effects);
@@ -271,6 +342,8 @@ void confirm_jointly(ConfirmationReport& rep, const std::vector<PieceScores>& al
 
 }  // namespace
 
+double expected_heldout_z(double all_data_z, double heldout_share) { return 0.5 * std::sqrt(heldout_share) * all_data_z; }
+
 ConfirmationReport confirm_effects(const Model& model, const Dataset& data, const Lens& lens,
                                    const std::vector<Candidate>& candidates, const SuspectReport& heldout,
                                    const ConfirmationOptions& o) {
@@ -282,15 +355,17 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
   rep.heldout_samples = split.held.total_samples();
   rep.pieces = static_cast<int>(split.held.records.size());
   rep.driven = model.uses_drive() && split.held.has_u();
-  const bool likelihood_fit = model.fit && model.fit->likelihood;
-  const InputInterpolation input = model.fit ? model.fit->input : InputInterpolation::ZeroOrderHold;
+  const bool by_filter = refits_by_likelihood(model, lens);
+  const InputInterpolation input = input_of(model);
   rep.criterion = std::string("refits on the first ") + fmt(100.0 * (1.0 - o.holdout), 3) +
-                  " % of every record (identify" + (likelihood_fit ? " + maximum likelihood" : "") +
-                  ", as the model was fitted), judged on the rest: " +
-                  (likelihood_fit ? "the filter's one-step log-likelihood on " + std::to_string(rep.pieces) + " pieces"
-                                  : std::string("the held-out suspects' one-step drift contrast")) +
-                  (rep.driven ? " and the free-run RMSE on " + std::to_string(rep.pieces) + " pieces" : std::string()) +
-                  " must improve by > " + fmt(o.z_threshold) + " standard errors";
+                  " % of every record (identify" + (by_filter ? " + maximum likelihood" : "") +
+                  "), judged on the rest: " +
+                  (by_filter ? "the filter's one-step log-likelihood on " + std::to_string(rep.pieces) +
+                                   " pieces must improve by > " + fmt(o.z_threshold) +
+                                   " standard errors or be what the all-data score test predicts for this share (within " +
+                                   fmt(o.consistency_margin) + " standard errors, and not worse)"
+                             : "the held-out suspects' one-step drift contrast must improve by > " + fmt(o.z_threshold) +
+                                   " standard errors");
   auto heldout_of = [&](EffectId id) -> const Suspect* {
     for (const Suspect& sp : heldout.ranked)
       if (sp.effect == enum_to_string(kEffectNames, id) && std::isfinite(sp.z)) return &sp;
@@ -302,19 +377,30 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
   }
   PieceScores base;
   try {
-    if (likelihood_fit || rep.driven)
-      base = score_pieces(refit_on(model, lens, split.train, {}), split, input, likelihood_fit, rep.driven,
-                          o.free_run_skip);
+    if (by_filter || rep.driven)
+      base = score_pieces(refit_on(model, lens, split.train, {}), split, input, by_filter, rep.driven, o.free_run_skip);
   } catch (const std::exception& e) {
     rep.note = std::string("the baseline refit on the training part failed: ") + e.what();
     return rep;
   }
   rep.ran = true;
-  rep.baseline_loglik = likelihood_fit ? total(base.loglik) : Confirmation::kNaN;
+  rep.baseline_loglik = by_filter ? total(base.loglik) : Confirmation::kNaN;
   rep.baseline_rmse = mean_rmse(base.sq_error);
-  // the filter's innovations describe the misfit of a model fitted by the likelihood (a moment
-  // fit to scheme-consistent data is not the continuous-time model the filter assumes)
-  if (likelihood_fit) rep.residuals = residual_signature(split.held, base.trace, lens.dt);
+  Judging judging{o.z_threshold, o.consistency_margin, double(rep.heldout_samples) / double(data_samples(split)),
+                  rep.driven, false};
+  if (rep.driven) {
+    rep.heldout_sd = std::sqrt(pooled_piece_variance(split.held));
+    judging.free_run_informative = rep.free_run_informative = rep.baseline_rmse < 0.5 * rep.heldout_sd;
+    rep.criterion += std::string("; the free-run RMSE on ") + std::to_string(rep.pieces) + " pieces must " +
+                     (rep.free_run_informative ? "improve by > " + fmt(o.z_threshold) + " standard errors"
+                                               : "not get worse by > " + fmt(o.z_threshold) +
+                                                     " standard errors (the baseline's free run, RMSE " +
+                                                     fmt(rep.baseline_rmse) + " against a held-out sd of x of " +
+                                                     fmt(rep.heldout_sd) + ", does not predict the response)");
+  }
+  // the filter's innovations describe the misfit of a continuous-time model (a moment fit to
+  // scheme-consistent data is not the continuous-time model the filter assumes)
+  if (by_filter) rep.residuals = residual_signature(split.held, base.trace, lens.dt);
   std::vector<PieceScores> alone_scores;  // per candidate, when refitted (the filter's trace dropped)
   for (const Candidate& cand : candidates) {
     if (static_cast<int>(rep.effects.size()) >= o.max_effects) break;
@@ -322,14 +408,18 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
     c.effect = enum_to_string(kEffectNames, cand.id);
     c.per_record_phase = cand.per_record_phase;
     c.evidence = cand.evidence;
+    c.all_data_z = cand.all_data_z;
     try {
-      const Suspect* h = likelihood_fit ? nullptr : heldout_of(cand.id);
-      if (!likelihood_fit && !h) throw Error("no held-out evidence (the held-out suspects did not test it)");
+      const Suspect* h = by_filter ? nullptr : heldout_of(cand.id);
+      if (!by_filter && !h) throw Error("no held-out evidence (the held-out suspects did not test it)");
       PieceScores with;
-      if (likelihood_fit || rep.driven) {
+      if (by_filter || rep.driven) {
         const Refit r = refit_on(model, lens, split.train, {Effect{cand.id, {}, {}}}, cand.per_record_phase);
         fill_params(c, r.model, cand.id);
-        with = score_pieces(r, split, input, likelihood_fit, rep.driven, o.free_run_skip);
+        with = score_pieces(r, split, input, by_filter, rep.driven, o.free_run_skip);
+        if (by_filter)
+          if (const ResidualSignature sig = residual_signature(split.held, with.trace, lens.dt); sig.features > 0)
+            c.refit_innovations = sig.summary;
       } else {
         c.params = h->params;
         c.params_stderr = h->params_stderr;
@@ -339,7 +429,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
       // coulomb_friction refitted with mu = −8.4)
       if (const std::string why = effect_domain_violation(Effect{cand.id, c.params, {}}); !why.empty())
         throw Error("the refit puts " + why);
-      judge(c, base, with, h, rep.driven, o.z_threshold);
+      judge(c, base, with, h, judging);
       with.trace = {};
       alone_scores.push_back(std::move(with));
     } catch (const std::exception& e) {
@@ -349,7 +439,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
     }
     rep.effects.push_back(std::move(c));
   }
-  if (likelihood_fit) confirm_jointly(rep, alone_scores, model, lens, split, input, o);
+  if (by_filter) confirm_jointly(rep, alone_scores, model, lens, split, judging, o);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }

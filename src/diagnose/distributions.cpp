@@ -22,8 +22,8 @@ double gamma_p_series(double a, double x) {
   return sum * std::exp(-x + a * std::log(x) - std::lgamma(a));
 }
 
-/// Continued fraction of Q(a, x) (modified Lentz), valid for x >= a + 1.
-double gamma_q_fraction(double a, double x) {
+/// log Q(a, x) by its continued fraction (modified Lentz), valid for x >= a + 1.
+double log_gamma_q_fraction(double a, double x) {
   double b = x + 1.0 - a, c = 1.0 / kTiny, d = 1.0 / b, h = d;
   for (int i = 1; i < kMaxIter; ++i) {
     const double an = -i * (i - a);
@@ -37,8 +37,10 @@ double gamma_q_fraction(double a, double x) {
     h *= del;
     if (std::abs(del - 1.0) < kEps) break;
   }
-  return std::exp(-x + a * std::log(x) - std::lgamma(a)) * h;
+  return -x + a * std::log(x) - std::lgamma(a) + std::log(h);
 }
+
+double gamma_q_fraction(double a, double x) { return std::exp(log_gamma_q_fraction(a, x)); }
 
 /// Continued fraction of the incomplete beta function (modified Lentz).
 double beta_fraction(double a, double b, double x) {
@@ -111,6 +113,12 @@ double beta_i(double a, double b, double x) {
 }
 
 double chi2_sf(double x, double k) { return gamma_q(0.5 * k, 0.5 * x); }
+
+double log_chi2_sf(double x, double k) {
+  const double p = chi2_sf(x, k);
+  if (p > 1e-280 || 0.5 * x < 0.5 * k + 1.0) return std::log(p);
+  return log_gamma_q_fraction(0.5 * k, 0.5 * x);
+}
 
 double chi2_isf(double p, double k) {
   if (!(p < 1.0)) return 0.0;

@@ -131,6 +131,7 @@ ResidualSignature residual_signature(const Dataset& held, const likelihood::Filt
     f.push_back({std::abs(std::log(s.variance)) * std::sqrt(n / 2.0), "innovation variance " + fmt(s.variance, 3) + " times the filter's prediction"});
   std::sort(f.begin(), f.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   for (const auto& [zv, text] : f) s.summary += (s.summary.empty() ? "" : "; ") + text;
+  s.features = static_cast<int>(f.size());
   if (s.summary.empty()) s.summary = "the held-out innovations show no feature beyond 4 standard errors";
   return s;
 }

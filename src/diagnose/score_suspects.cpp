@@ -45,14 +45,6 @@ double log_normal_sf(double z) {
   return -0.5 * z * z - std::log(z) - 0.5 * std::log(2.0 * M_PI) + std::log1p(-1.0 / (z * z));
 }
 
-/// log P(χ²_k > x): exact where it does not underflow, else the Wilson–Hilferty normal tail.
-double log_chi2_sf(double x, double k) {
-  const double p = chi2_sf(x, k);
-  if (p > 1e-280) return std::log(p);
-  const double a = 2.0 / (9.0 * k);
-  return log_normal_sf((std::cbrt(x / k) - (1.0 - a)) / std::sqrt(a));
-}
-
 /// The z with log P(N(0,1) > z) = log_p (≥ 0; 0 for p ≥ 1/2).
 double z_of_log_p(double log_p) {
   if (!(log_p < std::log(0.5))) return 0.0;
@@ -382,7 +374,10 @@ double added_z(const Context& c, const likelihood::Result& fit, const LookAlike&
 
 /// The damping look-alikes y·|y| and y³ (one parameter each): each form is score-tested added to
 /// the other's refit; the better one is named alone only when it adds significantly (one-sided,
-/// level alpha) to the other's refit and the other adds nothing significant to its own.
+/// level alpha/10) to the other's refit and the other adds nothing significant to its own. At
+/// level alpha (1 %) the wrong form was named alone in 2 of 20 seeds at 128 records × 4000
+/// samples (its added z 2.41 and 2.52; over the 20 seeds that z had sd 1.2 about 0), none in 20
+/// at 32 records: the filter's approximation between two close forms grows with the data.
 std::optional<LookAlikeGroup> damping_group(const Context& c, const std::vector<LookAlike>& alikes) {
   if (alikes.size() != 2) return std::nullopt;
   LookAlikeGroup g;
@@ -397,7 +392,7 @@ std::optional<LookAlikeGroup> damping_group(const Context& c, const std::vector<
   g.verdict = [&c, alikes](const likelihood::Result (&fit)[2], std::size_t better) {
     const std::size_t other = 1 - better;
     const double z_pref = added_z(c, fit[other], alikes[better]), z_other = added_z(c, fit[better], alikes[other]);
-    const double zc = normal_isf(c.options.alpha);
+    const double zc = normal_isf(c.options.alpha / 10.0);
     const std::string& a = alikes[better].term.name();
     const std::string& b = alikes[other].term.name();
     Verdict v;

@@ -30,8 +30,9 @@ std::string moment_suspects_invalid(const Model& model, const Dataset& data) {
   const char* what = "so their held-out evidence is not a test of the model and no suspect is claimed from it; "
                      "the likelihood's score tests (score_suspects) test the missing effects";
   if (model.fit && model.fit->likelihood)
-    return std::string("the model was fitted by the likelihood (exact at the data's sampling) and the suspects' "
-                       "moment refits (expansions in dt) are not comparable with it, ") + what;
+    return std::string("the model file has a likelihood section (a continuous-time model observed at the data's "
+                       "sampling, as a likelihood fit is) and the suspects' moment refits (expansions in dt) are not "
+                       "comparable with it, ") + what;
   // quantised values at a fast rate (vehs/core/quantisation.hpp): the rounding error is a
   // staircase over the first strides, which a hidden state's moment refit reads as dynamics —
   // 12-bit counts at 20 kHz of the true bistable: electromechanical_coupling 1772 nats, z 45

@@ -86,10 +86,12 @@ const ConfigSchema& diagnose_schema() {
            "true"},
           {"confirm", "bool | object",
            "Before an effect is recommended for an inadequate model, refit the model with it on the first part of "
-           "every record and check that it predicts the held-out rest better (one-step likelihood; free-run RMSE "
-           "for a driven model): true/false, or {\"holdout\": 0.3, \"blocks\": 8 (held-out pieces), "
-           "\"z_threshold\": 2, \"max_samples\": 2.5e5 (whole records up to this many samples; 0: all), "
-           "\"max_effects\": 8}.",
+           "every record and check the held-out rest: the one-step likelihood must improve, or be what the "
+           "all-data score test predicts for the held-out share; a driven model's free-run RMSE must improve where "
+           "the free run predicts the response, else not get worse: true/false, or {\"holdout\": 0.3, "
+           "\"blocks\": 8 (held-out pieces), \"z_threshold\": 2, \"consistency_margin\": 2.5 (standard errors "
+           "below the predicted held-out z), \"max_samples\": 2.5e5 (whole records up to this many samples; 0: "
+           "all), \"max_effects\": 8}.",
            "true"},
           {"alpha", "number", "Family-wise level of the verdict (Bonferroni over the components).", "0.01"},
           {"lens", "string",
@@ -207,11 +209,13 @@ diagnose::Options diagnose_options(const Config& c) {
     if (v.is_boolean()) {
       o.confirm.enabled = v.get<bool>();
     } else if (v.is_object()) {
-      const Config s = c.object("confirm", {"enabled", "holdout", "blocks", "z_threshold", "max_samples", "max_effects"});
+      const Config s = c.object("confirm", {"enabled", "holdout", "blocks", "z_threshold", "consistency_margin",
+                                            "max_samples", "max_effects"});
       o.confirm.enabled = s.boolean_or("enabled", true);
       o.confirm.holdout = s.positive_or("holdout", 0.3);
       o.confirm.blocks = static_cast<int>(s.integer_at_least("blocks", 3, 8));
       o.confirm.z_threshold = s.positive_or("z_threshold", 2.0);
+      o.confirm.consistency_margin = s.positive_or("consistency_margin", 2.5);
       o.confirm.max_samples = s.non_negative_or("max_samples", 2.5e5);
       o.confirm.max_effects = static_cast<int>(s.integer_at_least("max_effects", 1, 8));
       if (auto why = o.confirm.invalid_reason(); !why.empty()) c.fail("confirm", why);

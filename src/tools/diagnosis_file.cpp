@@ -27,6 +27,10 @@ J confirmation_to_json(const diagnose::ConfirmationReport& c) {
   if (!c.note.empty()) j["note"] = c.note;
   j["criterion"] = c.criterion;
   j["driven"] = c.driven;
+  if (c.driven) {
+    j["free_run_informative"] = c.free_run_informative;
+    j["heldout_sd"] = num(c.heldout_sd);
+  }
   j["train_samples"] = c.train_samples;
   j["heldout_samples"] = c.heldout_samples;
   j["pieces"] = c.pieces;
@@ -41,6 +45,10 @@ J confirmation_to_json(const diagnose::ConfirmationReport& c) {
     x["confirmed"] = e.confirmed;
     x["loglik_gain"] = num(e.loglik_gain);
     x["loglik_z"] = num(e.loglik_z);
+    x["all_data_z"] = num(e.all_data_z);
+    x["expected_z"] = num(e.expected_z);
+    x["by_consistency"] = e.by_consistency;
+    if (!e.refit_innovations.empty()) x["refit_innovations"] = e.refit_innovations;
     x["rmse"] = num(e.rmse_effect);
     x["rmse_z"] = num(e.rmse_z);
     x["params"] = e.params;

@@ -91,14 +91,18 @@ std::string next_step(const diagnose::Result& r) {
     if (r.recommended.empty())
       return "Next step: no effect of the catalogue explains the misfit (" + r.conclusion.substr(r.conclusion.find("— ") + 4) +
              "); see 'Confirmation by held-out refits'.";
-    std::string names;
-    for (const auto& e : r.recommended) names += (names.empty() ? "" : ", ") + e;
-    bool per_record = false;  // the first recommendation refitted with one forcing phase per record
+    std::string names, listed;
+    for (const auto& e : r.recommended) {
+      names += (names.empty() ? "" : ", ") + e;
+      listed += (listed.empty() ? "\"" : ", \"") + e + "\"";
+    }
+    bool per_record = false;  // a recommended forcing refitted with one phase per record
     for (const auto& e : r.confirmation.effects)
-      if (e.confirmed && e.effect == r.recommended.front()) per_record = e.per_record_phase;
-    return "Next step: add " + names + " to the model's own terms and identify again (\"effects\": [\"" +
-           r.recommended.front() + "\"]" + (per_record ? ", \"likelihood\": {\"per_record_phase\": true}" : "") +
-           " with the model's terms as the libraries and no re-selection: the refit that confirmed it on held-out data).";
+      if (e.confirmed && e.effect == "harmonic_forcing") per_record = per_record || e.per_record_phase;
+    return "Next step: add " + names + " to the model's own terms and identify again (\"effects\": [" + listed + "]" +
+           (per_record ? ", \"likelihood\": {\"per_record_phase\": true}" : "") +
+           " with the model's terms as the libraries and no re-selection: the refit that confirmed " +
+           (r.recommended.size() > 1 ? "them" : "it") + " on held-out data).";
   }
   for (const auto& sp : r.suspects.ranked)
     if (sp.significant)

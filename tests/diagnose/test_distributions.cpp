@@ -28,6 +28,20 @@ TEST_CASE("chi-square tails: closed forms for 2 dof, tabulated quantiles, invers
   CHECK(chi2_equivalent(1e-320, 3.0, 5000.0) >= 5000.0);
 }
 
+TEST_CASE("chi-square log tails far beyond underflow: closed forms for 2 and 4 dof, continuity", "[distributions]") {
+  // log P(χ²_2 > x) = −x/2 and log P(χ²_4 > x) = −x/2 + log(1 + x/2) exactly; the normal
+  // (Wilson–Hilferty) tail used before gave −337 for −870 at 2 dof
+  for (double x : {10.0, 1500.0, 1740.0, 1e5}) {
+    CHECK(log_chi2_sf(x, 2.0) == Approx(-x / 2).epsilon(1e-12));
+    CHECK(log_chi2_sf(x, 4.0) == Approx(-x / 2 + std::log1p(x / 2)).epsilon(1e-12));
+  }
+  // continuous where chi2_sf underflows (p 1e-280) for many degrees of freedom
+  const double x0 = chi2_isf(1e-279, 256.0);
+  CHECK(log_chi2_sf(x0 * 1.0001, 256.0) < log_chi2_sf(x0, 256.0));
+  CHECK(log_chi2_sf(x0 * 1.0001, 256.0) == Approx(std::log(chi2_sf(x0 * 1.0001, 256.0))).epsilon(1e-9));
+  CHECK(log_chi2_sf(2000.0, 256.0) < log_chi2_sf(1900.0, 256.0));
+}
+
 TEST_CASE("Student t and F tails match tabulated quantiles and limits", "[distributions]") {
   CHECK(t_sf_two_sided(2.2281388519649385, 10.0) == Approx(0.05).epsilon(1e-9));
   CHECK(t_sf_two_sided(12.706204736174706, 1.0) == Approx(0.05).epsilon(1e-9));

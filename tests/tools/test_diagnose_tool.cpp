@@ -11,6 +11,7 @@
 
 #include "../diagnose/diagnose_fixtures.hpp"
 #include "chromium.hpp"
+#include "tools/diagnosis_report.hpp"
 #include "tools/history.hpp"
 #include "tools/tools.hpp"
 #include "vehs/io/atomic_file.hpp"
@@ -201,4 +202,21 @@ TEST_CASE("diagnose-vehs rejects bad inputs with exit status 1 and writes nothin
   write_text((dir / "report" / "history.json").string(), "not json");
   CHECK(run({cfg("e.json", R"("model": ")" + (dir / "model.json").string() + "\", \"suspects\": false, " + base), "--quiet"}) == 1);
   CHECK_FALSE(fs::exists(dir / "out.json"));
+}
+
+TEST_CASE("diagnose-vehs's next step lists every recommended effect in its identify fragment", "[diagnose][app]") {
+  // an outside tester: "add impact_stop, colored_noise" beside "effects": ["impact_stop"]
+  vehs::diagnose::Result r;
+  r.verdict = vehs::diagnose::Verdict::Inadequate;
+  r.confirmation.ran = true;
+  r.recommended = {"coulomb_friction", "harmonic_forcing"};
+  vehs::diagnose::Confirmation c;
+  c.effect = "harmonic_forcing";
+  c.confirmed = true;
+  c.per_record_phase = true;
+  r.confirmation.effects.push_back(c);
+  const std::string s = vehs::tools::next_step(r);
+  INFO(s);
+  CHECK(s.find("\"effects\": [\"coulomb_friction\", \"harmonic_forcing\"], \"likelihood\": {\"per_record_phase\": true}") !=
+        std::string::npos);
 }

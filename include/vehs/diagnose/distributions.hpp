@@ -20,6 +20,8 @@ double beta_i(double a, double b, double x);
 
 /// P(χ²_k > x).
 double chi2_sf(double x, double k);
+/// log P(χ²_k > x), also where P underflows (the incomplete gamma's continued fraction in logs).
+double log_chi2_sf(double x, double k);
 /// x with chi2_sf(x, k) = p (p in (0, 1]); for p below ~1e-300 it returns +inf.
 double chi2_isf(double p, double k);
 /// P(F(d1, d2) > f).

@@ -12,7 +12,7 @@
 //    ≈ 0.97 over a Gaussian-like velocity, are named with nearly equal z; when both are
 //    significant, the model plus each one is refitted by the likelihood (vehs/likelihood/refine)
 //    and the likelihood ratio of the two refits (one parameter each) ranks them. The preferred
-//    form is named alone only when it adds significantly (one-sided, level alpha) to the other's
+//    form is named alone only when it adds significantly (one-sided, level alpha/10: the filter's approximation between two close forms grows with the data) to the other's
 //    refit and the other adds nothing significant to its own; else the two are one group
 //    ("damping that grows faster than linear", `not_resolved_from`), the preferred first, with
 //    the multiple of the data that would resolve them with 90 % power (in each one's `test`).
