@@ -283,6 +283,24 @@ void fill_params(Confirmation& c, const Model& m, EffectId id) {
   if (const Effect* e = m.find_effect(id)) c.params = e->params, c.params_stderr = e->stderr_;
 }
 
+/// The parameters that measure an effect's size — those that vanish without it (μ, c, the
+/// coupling, the intensity, the amplitude, …; impact_stop has none): not the strictly positive rates and
+/// scales (λ, τ, ω, the gap), nor a phase.
+bool measures_size(const EffectParamSpec& p) { return !p.strictly_positive && p.name != "phase"; }
+
+/// "coupling 0.114 ± 0.074 (z 1.5)" for those parameters.
+std::string size_text(const Confirmation& c) {
+  std::string t;
+  for (const EffectParamSpec& p : effect_spec(enum_from_string(kEffectNames, c.effect, "effect")).params) {
+    const auto v = c.params.find(std::string(p.name));
+    const auto se = c.params_stderr.find(std::string(p.name));
+    if (!measures_size(p) || v == c.params.end() || se == c.params_stderr.end()) continue;
+    t += (t.empty() ? "" : ", ") + std::string(p.name) + " " + fmt(v->second) + " ± " + fmt(se->second) + " (z " +
+         fmt(std::abs(v->second) / se->second) + ")";
+  }
+  return t.empty() ? "no size parameter with a standard error" : t;
+}
+
 /// Effects confirmed one at a time can be one explanation twice (a y³ damping absorbs part of a
 /// hidden Coulomb friction: both improve on the baseline). The first in the all-data ranking
 /// stays confirmed (held-out evidence only: the largest gain); each further one must improve on
@@ -318,11 +336,20 @@ void confirm_jointly(ConfirmationReport& rep, const std::vector<PieceScores>& al
     std::vector<Effect> with_effects = kept;
     with_effects.push_back(Effect{id, {}, {}});
     Confirmation joint;
+    joint.effect = c.effect;
     try {
-      PieceScores with = score_pieces(refit_on(model, lens, split.train, with_effects, per_record || c.per_record_phase),
-                                      split, input, true, rep.driven, o.free_run_skip);
+      const Refit r = refit_on(model, lens, split.train, with_effects, per_record || c.per_record_phase);
+      fill_params(joint, r.model, id);
+      PieceScores with = score_pieces(r, split, input, true, rep.driven, o.free_run_skip);
       with.trace = {};
       judge(joint, kept_scores, with, nullptr, judging);  // no all-data evidence beyond the kept: z_threshold
+      const std::string size = size_text(joint);
+      if (joint.confirmed && effect_size_z(joint) <= o.z_threshold) {
+        c.reason = "not confirmed: beyond " + kept_names + " its size is not significant in the joint refit (" + size +
+                   "; " + joint.reason.substr(joint.reason.find(':') + 2) + "; alone: " + alone + ")";
+        c.confirmed = false;
+        continue;
+      }
       if (joint.confirmed) {
         c.reason = "confirmed: " + alone + "; beyond " + kept_names + ": " + joint.reason.substr(joint.reason.find(':') + 2);
         kept = std::move(with_effects);
@@ -442,6 +469,17 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
   if (by_filter) confirm_jointly(rep, alone_scores, model, lens, split, judging, o);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
+}
+
+double effect_size_z(const Confirmation& c) {
+  double z = Confirmation::kNaN;
+  for (const EffectParamSpec& p : effect_spec(enum_from_string(kEffectNames, c.effect, "effect")).params) {
+    const auto v = c.params.find(std::string(p.name));
+    const auto se = c.params_stderr.find(std::string(p.name));
+    if (measures_size(p) && v != c.params.end() && se != c.params_stderr.end() && se->second > 0.0)
+      z = std::isnan(z) ? std::abs(v->second) / se->second : std::max(z, std::abs(v->second) / se->second);
+  }
+  return z;
 }
 
 }  // namespace vehs::diagnose

@@ -109,7 +109,10 @@ void TwinSimulator::simulate(int rep, Dataset& out) {
   if (!one_group) {
     out.records = data_.records;
     out.x.resize(data_.x.size());
-    out.u.clear();
+    // the input the twins were driven by, at the data's instants (refits of the twins need it:
+    // an interpolated input simulates every record on its own, and the twins had no u, so the
+    // parameter-uncertainty refits failed with "the data have no drive column u")
+    out.u = model_.uses_drive() ? data_.u : Column{};
     out.y.clear();
   }
   for (std::size_t g = 0; g < groups_.size(); ++g) {

@@ -193,3 +193,32 @@ TEST_CASE("confirmation: a true effect's held-out z is what its all-data z predi
   CHECK(sum / reps < 0.7);
   CHECK(below <= 45);
 }
+
+// A further effect is confirmed beside those kept only when its size is significant in the joint
+// refit (an outside tester's per-record forcing: a hidden electrical state "confirmed beyond" it
+// with coupling 0.114 ± 0.074). The size is read from the parameters that vanish without the
+// effect — never the rate λ, the frequency ω or a phase.
+TEST_CASE("confirmation: an effect's size in a refit is read from the parameters that vanish without it",
+          "[diagnose][confirmation]") {
+  using vehs::diagnose::Confirmation;
+  using vehs::diagnose::effect_size_z;
+  Confirmation em;
+  em.effect = "electromechanical_coupling";
+  em.params = {{"lambda", 5.0}, {"coupling", 0.114}};
+  em.params_stderr = {{"lambda", 0.01}, {"coupling", 0.074}};
+  CHECK(effect_size_z(em) == Approx(0.114 / 0.074));  // not λ's z of 500
+  Confirmation forcing;
+  forcing.effect = "harmonic_forcing";
+  forcing.params = {{"amplitude", -0.3}, {"omega", 1.2}, {"phase", 2.0}};
+  forcing.params_stderr = {{"amplitude", 0.05}, {"omega", 0.001}, {"phase", 0.01}};
+  CHECK(effect_size_z(forcing) == Approx(6.0));  // |amplitude|/SE, a negative size counts
+  Confirmation stop;
+  stop.effect = "impact_stop";
+  stop.params = {{"k_stop", 50.0}, {"gap", 1.5}};
+  stop.params_stderr = {{"k_stop", 1.0}, {"gap", 0.01}};
+  CHECK(std::isnan(effect_size_z(stop)));  // no size parameter: the held-out gain decides alone
+  Confirmation no_se;
+  no_se.effect = "coulomb_friction";
+  no_se.params = {{"mu", 0.04}};
+  CHECK(std::isnan(effect_size_z(no_se)));
+}

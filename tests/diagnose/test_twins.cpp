@@ -1,4 +1,4 @@
-// The twins' simulator (src/diagnose/twins.cpp): its memory guard.
+// The twins' simulator (src/diagnose/twins.cpp): its memory guard, and the input it carries.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -56,4 +56,9 @@ TEST_CASE("twins: an interpolated drive too large for the memory limit is refuse
   diagnose::detail::TwinSimulator small(m, d, ts);
   small.simulate(0, out);
   CHECK(out.x.size() == 1000);
+  // the twins carry the input that drove them: refits of the twins (the parameter-uncertainty
+  // draws) need it — with an interpolated input they had none, and an outside tester's driven rig
+  // lost its parameter uncertainty with "the data have no drive column u"
+  REQUIRE(out.u.size() == 1000);
+  CHECK(out.u[500] == d.u[500]);
 }

@@ -57,8 +57,12 @@
 //    on the baseline. The first in the all-data ranking (score tests by p, look-alikes as their
 //    all-data refits ordered them; then held-out evidence only, by its gain) stays confirmed; every
 //    further one, in that order, is refitted together with those kept before it and must improve
-//    on their refit by z_threshold (there is no all-data evidence of it beyond them), else it is
-//    not confirmed ("adds nothing beyond …" in its reason, with its gain alone).
+//    on their refit by z_threshold (there is no all-data evidence of it beyond them), and its size
+//    in that joint refit (μ, c, the coupling, the amplitude, …) must exceed z_threshold standard
+//    errors, else it is not confirmed ("adds nothing beyond …" / "its size is not significant"
+//    in its reason, with its gain alone). (An outside tester's per-record forcing: a hidden
+//    electrical state "confirmed beyond" it at held-out z 7.7 with its coupling 0.114 ± 0.074 in
+//    the joint refit; the user's refit with both then landed on ω 49.8 for 1.2.)
 //
 // Where the refits are by the likelihood, the baseline's held-out innovations (the filter's
 // standardised prediction errors) also say what the misfit looks like when no catalogue effect
@@ -159,6 +163,12 @@ struct Candidate {
 /// on a held-out share f: √f·all_data_z/2 (the header comment; tests/diagnose/test_confirmation.cpp
 /// checks it by simulation: with 8 pieces the held-out z is on average 0.1–0.4 above it, sd 1.2–1.7).
 double expected_heldout_z(double all_data_z, double heldout_share);
+
+/// The largest |value|/SE over the parameters of `c.effect` that measure its size (those that
+/// vanish without it: μ, c, the coupling, the amplitude, …; not the strictly positive rates and
+/// scales, nor a phase), from `c.params` and `c.params_stderr`; NaN when none has an SE. A further
+/// effect is confirmed jointly only when this exceeds z_threshold in the joint refit.
+double effect_size_z(const Confirmation& c);
 
 /// Refits and judges the candidates (see the header comment). Errors of single refits go to
 /// the candidate's `error`; a baseline that cannot be refitted or evaluated goes to `note`.
