@@ -25,7 +25,8 @@ std::string write_report(const std::string& folder, const std::string& label, co
   const auto entries =
       tools::append_history(history, tools::history_entry(model.model, "(python)", label, data, r, model.sections));
   tools::Report report(folder, "vehs.diagnose: " + label);
-  tools::add_diagnosis_to_report(report, r, label, entries, tools::data_fingerprint(data));
+  tools::add_diagnosis_to_report(report, r, label, entries, tools::data_fingerprint(data), nlohmann::json::object(), {},
+                                 &model.model);
   return report.write_html();
 }
 
@@ -44,7 +45,7 @@ std::pair<std::string, std::string> diagnose_records(const ModelFile& model, con
     o.progress = cb;
     return diagnose::diagnose(model.model, *records.data, o);
   });
-  nlohmann::ordered_json j = tools::diagnosis_to_json(r);
+  nlohmann::ordered_json j = tools::diagnosis_to_json(r, &model.model);
   j["label"] = label;
   const std::string html = report.empty() ? "" : write_report(report, label, model, *records.data, r);
   j["report"] = html;

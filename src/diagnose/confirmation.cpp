@@ -382,6 +382,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
   rep.heldout_samples = split.held.total_samples();
   rep.pieces = static_cast<int>(split.held.records.size());
   rep.driven = model.uses_drive() && split.held.has_u();
+  rep.by_likelihood = refits_by_likelihood(model, lens);
   const bool by_filter = refits_by_likelihood(model, lens);
   const InputInterpolation input = input_of(model);
   rep.criterion = std::string("refits on the first ") + fmt(100.0 * (1.0 - o.holdout), 3) +
@@ -455,7 +456,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
       // a recommendation must still be the catalogue's effect (Silverbox, second round:
       // coulomb_friction refitted with mu = −8.4)
       if (const std::string why = effect_domain_violation(Effect{cand.id, c.params, {}}); !why.empty())
-        throw Error("the refit puts " + why);
+        throw Error("the refit is not usable: " + why);
       judge(c, base, with, h, judging);
       with.trace = {};
       alone_scores.push_back(std::move(with));

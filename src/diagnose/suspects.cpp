@@ -346,6 +346,8 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
         sp.params_stderr = ep[0].stderr_;
       }
     }
+    sp.outside_domain = effect_domain_violation(Effect{f.effect.id, sp.params, {}});
+    if (!sp.outside_domain.empty()) sp.held_out_significant = sp.significant = false;
     sp.block_gain = gain;
     sp.terms = f.added;
     rep.ranked.push_back(std::move(sp));

@@ -296,8 +296,8 @@ int run_diagnose(Config& c, const AppOptions& app) {
                               e.value("verdict", "") + (v == version ? ", this page)" : ")"),
                           "versions/v" + std::to_string(v) + ".html"});
     }
-  add_diagnosis_to_report(report, r, label, entries, fingerprint, units, versions);
-  nlohmann::ordered_json j = diagnosis_to_json(r);
+  add_diagnosis_to_report(report, r, label, entries, fingerprint, units, versions, &model);
+  nlohmann::ordered_json j = diagnosis_to_json(r, &model);
   j["model"] = model_file;
   j["label"] = label;
   j["data_files"] = files;
@@ -326,7 +326,7 @@ int run_diagnose(Config& c, const AppOptions& app) {
                   r.suspects.set_aside.empty() ? "" : "; SET ASIDE, not a test on these data (see the report)");
       for (const auto& s : r.suspects.ranked)
         std::printf("  %-26s %10s  z = %6s%s\n", s.effect.c_str(), g(s.evidence).c_str(), g(s.z, 3).c_str(),
-                    s.significant ? "  claimed" : "");
+                    s.significant ? "  claimed" : !s.outside_domain.empty() ? ("  not claimed: " + s.outside_domain).c_str() : "");
     }
     if (!r.score_suspects.ranked.empty()) {
       std::printf("score suspects (likelihood, all data):\n");
@@ -340,7 +340,7 @@ int run_diagnose(Config& c, const AppOptions& app) {
     }
     for (const auto& w : r.warnings) std::printf("warning: %s\n", w.c_str());
     std::printf("conclusion: %s\n", r.conclusion.c_str());
-    std::printf("%s\n", next_step(r).c_str());
+    std::printf("%s\n", next_step(r, &model).c_str());
     std::printf("report: %s\nsummary: %s\n", html.c_str(), output.c_str());
   }
   return fail_on_inadequate && r.verdict == diagnose::Verdict::Inadequate ? 3 : 0;

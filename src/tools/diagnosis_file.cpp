@@ -79,12 +79,38 @@ J confirmation_to_json(const diagnose::ConfirmationReport& c) {
 }
 }  // namespace
 
-nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
+nlohmann::ordered_json refit_config(const diagnose::Result& r, const Model& model) {
+  if (!r.confirmation.ran || r.recommended.empty()) return nullptr;
+  J cfg;
+  J drift = J::array(), diffusion = J::array(), effects = J::array();
+  for (const auto& tc : model.drift) drift.push_back(tc.term.name());
+  for (const auto& tc : model.diffusion) diffusion.push_back(tc.term.name());
+  for (const auto& e : model.effects) effects.push_back(e.name());
+  for (const auto& name : r.recommended)
+    if (std::find(effects.begin(), effects.end(), J(name)) == effects.end()) effects.push_back(name);
+  cfg["drift_library"] = drift;
+  cfg["diffusion_library"] = diffusion;
+  cfg["effects"] = effects;
+  cfg["sparsity"] = "none";
+  if (r.confirmation.by_likelihood) {
+    J lik;
+    if (!(model.fit && model.fit->likelihood)) lik["use"] = "always";
+    lik["select"] = false;
+    if (model.fit && model.uses_drive()) lik["input"] = enum_to_string(kInputInterpolationNames, model.fit->input);
+    for (const auto& c : r.confirmation.effects)
+      if (c.confirmed && c.per_record_phase) lik["per_record_phase"] = true;
+    cfg["likelihood"] = lik;
+  }
+  return cfg;
+}
+
+nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r, const Model* model) {
   using namespace vehs::diagnose;
   J j;
   j["verdict"] = enum_to_string(diagnose::kVerdictNames, r.verdict);
   j["conclusion"] = r.conclusion;
   j["recommended"] = r.recommended;
+  if (model) j["refit_config"] = refit_config(r, *model);
   j["outside_catalogue"] = r.outside_catalogue;
   j["score"] = r.score;
   J comp = J::object();
@@ -97,6 +123,7 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r) {
     e["evidence"] = num(s.evidence);
     e["params"] = s.params;
     e["add"] = suspect_add_fragment(s);
+    if (!s.outside_domain.empty()) e["outside_domain"] = s.outside_domain;
     e["z"] = num(s.z);
     e["significant"] = s.significant;
     e["held_out_significant"] = s.held_out_significant;

@@ -85,7 +85,7 @@ std::string params_text(const std::map<std::string, double>& params, const std::
 }
 }  // namespace
 
-std::string next_step(const diagnose::Result& r) {
+std::string next_step(const diagnose::Result& r, const Model* model) {
   if (r.adequate()) return "Next step: none needed: the model reproduces the data within their statistical errors.";
   if (r.confirmation.ran) {
     if (r.recommended.empty())
@@ -99,10 +99,16 @@ std::string next_step(const diagnose::Result& r) {
     bool per_record = false;  // a recommended forcing refitted with one phase per record
     for (const auto& e : r.confirmation.effects)
       if (e.confirmed && e.effect == "harmonic_forcing") per_record = per_record || e.per_record_phase;
+    const std::string them = r.recommended.size() > 1 ? "them" : "it";
+    if (model)
+      return "Next step: add " + names + ": merge " + refit_config(r, *model).dump() +
+             " into the identify-vehs config that fitted the model and identify again (the model's terms as the "
+             "libraries, no re-selection: the refit that confirmed " + them + " on held-out data; the diagnosis "
+             "JSON's refit_config).";
     return "Next step: add " + names + " to the model's own terms and identify again (\"effects\": [" + listed + "]" +
            (per_record ? ", \"likelihood\": {\"per_record_phase\": true}" : "") +
-           " with the model's terms as the libraries and no re-selection: the refit that confirmed " +
-           (r.recommended.size() > 1 ? "them" : "it") + " on held-out data).";
+           " with the model's terms as the libraries and no re-selection: the refit that confirmed " + them +
+           " on held-out data).";
   }
   for (const auto& sp : r.suspects.ranked)
     if (sp.significant)
@@ -114,13 +120,13 @@ std::string next_step(const diagnose::Result& r) {
 
 void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const std::string& model_label,
                              const std::vector<nlohmann::ordered_json>& history, const std::string& fingerprint,
-                             const nlohmann::json& units, const std::vector<ReportLink>& versions) {
+                             const nlohmann::json& units, const std::vector<ReportLink>& versions, const Model* model) {
   auto axis = [&](const std::string& label, const std::string& what) { return with_unit(label, what, units); };
   // ------------------------------------------------------------------ verdict
   {
     auto& s = report.section("Verdict");
     s.paragraphs.push_back("Model " + model_label + ": " + (r.adequate() ? "ADEQUATE" : "INADEQUATE") + ", score " +
-                           g(r.score) + ". " + next_step(r));
+                           g(r.score) + ". " + next_step(r, model));
     std::ostringstream p;
     p << "Score " << g(r.score) << " (an adequate model scores about " << g(r.score_expected_adequate, 2)
       << " on these components; lower is better; comparable between models fitted to the same data). "

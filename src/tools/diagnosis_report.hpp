@@ -18,10 +18,11 @@ namespace vehs::tools {
 void add_diagnosis_to_report(Report& report, const diagnose::Result& result, const std::string& model_label,
                              const std::vector<nlohmann::ordered_json>& history, const std::string& fingerprint,
                              const nlohmann::json& units = nlohmann::json::object(),
-                             const std::vector<ReportLink>& versions = {});
+                             const std::vector<ReportLink>& versions = {}, const Model* model = nullptr);
 
-/// The one-line next step of a diagnosis: what to change in the identify config (the top
-/// suspect's `add` fragment), or that nothing needs to change.
-std::string next_step(const diagnose::Result& result);
+/// The one-line next step of a diagnosis: what to change in the identify config (with `model`,
+/// the diagnosed model, the complete keys of refit_config; else the effects to add), or that
+/// nothing needs to change.
+std::string next_step(const diagnose::Result& result, const Model* model = nullptr);
 
 }  // namespace vehs::tools

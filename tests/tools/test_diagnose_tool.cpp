@@ -11,6 +11,7 @@
 
 #include "../diagnose/diagnose_fixtures.hpp"
 #include "chromium.hpp"
+#include "tools/diagnosis_file.hpp"
 #include "tools/diagnosis_report.hpp"
 #include "tools/history.hpp"
 #include "tools/tools.hpp"
@@ -219,4 +220,21 @@ TEST_CASE("diagnose-vehs's next step lists every recommended effect in its ident
   INFO(s);
   CHECK(s.find("\"effects\": [\"coulomb_friction\", \"harmonic_forcing\"], \"likelihood\": {\"per_record_phase\": true}") !=
         std::string::npos);
+  // with the model: every key of the confirming refit (an outside tester: "no re-selection" named no key)
+  vehs::Model m = bistable();
+  m.effects.push_back(vehs::Effect{vehs::EffectId::ColoredNoise, {}, {}});
+  r.confirmation.by_likelihood = true;
+  const std::string full = vehs::tools::next_step(r, &m);
+  INFO(full);
+  const auto cfg = vehs::tools::refit_config(r, m);
+  CHECK(full.find(cfg.dump()) != std::string::npos);
+  CHECK(cfg["drift_library"].size() == m.drift.size());
+  CHECK(cfg["diffusion_library"].size() == m.diffusion.size());
+  CHECK(cfg["effects"] == nlohmann::ordered_json({"colored_noise", "coulomb_friction", "harmonic_forcing"}));
+  CHECK(cfg["sparsity"] == "none");
+  CHECK(cfg["likelihood"]["select"] == false);
+  CHECK(cfg["likelihood"]["use"] == "always");  // a moment-fitted model: the refit was by the likelihood
+  CHECK(cfg["likelihood"]["per_record_phase"] == true);
+  r.recommended.clear();
+  CHECK(vehs::tools::refit_config(r, m).is_null());
 }

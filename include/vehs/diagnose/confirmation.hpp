@@ -140,6 +140,7 @@ struct ConfirmationReport {
   std::string note;             ///< why it did not run, or what limited it
   std::string criterion;        ///< one line
   bool driven = false;          ///< the free-run criterion was used
+  bool by_likelihood = false;   ///< the refits were refined by maximum likelihood (support fixed)
   bool free_run_informative = false;  ///< the free run must improve (else: not get worse)
   double heldout_sd = Confirmation::kNaN;  ///< sd of x over the held-out pieces (driven models)
   std::size_t train_samples = 0, heldout_samples = 0;

@@ -105,6 +105,9 @@ struct Suspect {
   std::map<std::string, double> params;         ///< the effect's fitted parameters
   std::map<std::string, double> params_stderr;  ///< their standard errors
   std::vector<std::string> terms;  ///< terms the effect added
+  /// Non-empty when the fitted parameters leave the effect's domain ("quadratic_damping.c = -0.28
+  /// is outside its domain (>= 0)"): such a suspect is never claimed, whatever its gain.
+  std::string outside_domain;
   /// Set when the suspect was confirmed by a refit (diagnose's confirmation of close contenders):
   /// the verdict and score of the model refitted with this effect, or why the refit failed.
   std::optional<Verdict> refit_verdict;
