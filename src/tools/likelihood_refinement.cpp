@@ -34,7 +34,7 @@ const char* const kLikelihoodHelp =
     "remove the Gaussian filter's own bias by B data sets simulated at the estimate, standard errors "
     "x sqrt(1 + 1/B); at B = 8 +25 % CPU on the paper's model, 3.6x on Silverbox, whose interpolated "
     "input is simulated at 96 steps per interval; 0: off; default \"auto\": B = 8 when the fit estimates "
-    "sensor noise, where the filter over-estimates a multiplicative noise by about 5 %, else 0, and "
+    "sensor noise and resolves it (above 2 SE), where the filter over-estimates a multiplicative noise by about 5 %, else 0, and "
     "skipped with the reason when the estimate cannot be simulated), bias_correction_seed (seed of "
     "the first simulated data set, default 1). The model file then holds \"likelihood\": "
     "measurement_sd, record_phases, log_likelihood, bic, observations, the parameters with their "

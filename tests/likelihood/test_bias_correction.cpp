@@ -125,7 +125,7 @@ TEST_CASE("bias correction with an interpolated input: simulated data driven as 
   }
 }
 
-TEST_CASE("bias correction auto: only for fits with sensor noise; one that cannot be done is skipped with the reason",
+TEST_CASE("bias correction auto: only for fits with resolved sensor noise; one that cannot be done is skipped with the reason",
           "[likelihood][bias_correction]") {
   const Model linear = model(R"({"drift": {"x": -1.0, "y": -0.2}, "diffusion": {"1": 0.04}})");
   const Dataset d = simulate(linear, 0.5, 2, 500.0, 17, 0.02);
@@ -140,6 +140,16 @@ TEST_CASE("bias correction auto: only for fits with sensor noise; one that canno
   const likelihood::Result no_noise = likelihood::refine({linear, 0.0, {}}, d, o);
   CHECK(no_noise.summary.bias_correction_datasets == 0);
   CHECK(no_noise.summary.bias_correction_skipped.empty());
+  // sensor noise fitted but not resolved (noise-free records: an estimate at the boundary, below
+  // 2 SE): no sensor to correct for (an outside tester: B = 8 ran on every noise-free loop fit)
+  o.estimate_measurement_noise = true;
+  const likelihood::Result unresolved = likelihood::refine({linear, 0.0, {}}, simulate(linear, 0.5, 2, 500.0, 17, 0.0), o);
+  INFO(unresolved.summary.FullReport());
+  REQUIRE(unresolved.find("measurement_sd") >= 0);
+  CHECK(unresolved.stderrs[std::size_t(unresolved.find("measurement_sd"))] >
+        0.5 * unresolved.values[std::size_t(unresolved.find("measurement_sd"))]);
+  CHECK(unresolved.summary.bias_correction_datasets == 0);
+  CHECK(unresolved.summary.bias_correction_skipped.empty());
   // a fit the simulator refuses (x^3 held at +0.05: a potential that does not confine; the
   // filter is fine on these data, |x| < 1): uncorrected, and the reason kept
   o.estimate_measurement_noise = true;

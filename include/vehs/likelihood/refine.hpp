@@ -114,7 +114,7 @@ struct RefineOptions {
   /// covariance × (1 + 1/B). 0: off. Costs B simulations and B gradient passes.
   int bias_correction_datasets = 0;
   std::uint64_t bias_correction_seed = 1;  ///< seed of the first simulated data set
-  /// true (identify-vehs's `bias_correction: "auto"`): correct only when the final fit estimates
+  /// true (identify-vehs's `bias_correction: "auto"`): correct only when the final fit estimates and resolves (above 2 SE)
   /// the measurement noise and has one shared harmonic phase, and leave the fit uncorrected,
   /// with the reason in Summary::bias_correction_skipped, when the correction cannot be done
   /// (the estimate cannot be simulated or filtered on a simulated data set) instead of throwing.
