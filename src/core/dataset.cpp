@@ -1,7 +1,9 @@
 #include "vehs/core/dataset.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 
 #include "vehs/conventions.hpp"
 #include "vehs/core/error.hpp"
@@ -136,6 +138,20 @@ Dataset leading_samples(const Dataset& data,
     sub.records.push_back(nr);
   }
   return sub;
+}
+
+double pooled_record_variance(const Dataset& data) {
+  double ss = 0.0;
+  std::size_t n = 0;
+  for (const Record& r : data.records) {
+    const double* x = data.x_of(r);
+    double mean = 0.0;
+    for (std::size_t i = 0; i < r.size; ++i) mean += x[i];
+    mean /= double(std::max<std::size_t>(r.size, 1));
+    for (std::size_t i = 0; i < r.size; ++i) ss += (x[i] - mean) * (x[i] - mean);
+    n += r.size;
+  }
+  return n > 1 ? ss / double(n - 1) : std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace vehs

@@ -192,21 +192,6 @@ double mean_rmse(const std::vector<double>& sq) { return sq.empty() ? Confirmati
 /// The samples the split uses (training and held out).
 std::size_t data_samples(const Split& s) { return s.train.total_samples() + s.held.total_samples(); }
 
-/// The variance of x about each held-out piece's own mean, pooled over the pieces.
-double pooled_piece_variance(const Dataset& held) {
-  double ss = 0.0;
-  std::size_t n = 0;
-  for (const Record& r : held.records) {
-    const double* x = held.x_of(r);
-    double mean = 0.0;
-    for (std::size_t i = 0; i < r.size; ++i) mean += x[i];
-    mean /= double(std::max<std::size_t>(r.size, 1));
-    for (std::size_t i = 0; i < r.size; ++i) ss += (x[i] - mean) * (x[i] - mean);
-    n += r.size;
-  }
-  return n > 1 ? ss / double(n - 1) : Confirmation::kNaN;
-}
-
 std::vector<double> difference(const std::vector<double>& a, const std::vector<double>& b) {
   std::vector<double> d(a.size());
   for (std::size_t i = 0; i < a.size(); ++i) d[i] = a[i] - b[i];
@@ -417,7 +402,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
   Judging judging{o.z_threshold, o.consistency_margin, double(rep.heldout_samples) / double(data_samples(split)),
                   rep.driven, false};
   if (rep.driven) {
-    rep.heldout_sd = std::sqrt(pooled_piece_variance(split.held));
+    rep.heldout_sd = std::sqrt(pooled_record_variance(split.held));
     judging.free_run_informative = rep.free_run_informative = rep.baseline_rmse < 0.5 * rep.heldout_sd;
     rep.criterion += std::string("; the free-run RMSE on ") + std::to_string(rep.pieces) + " pieces must " +
                      (rep.free_run_informative ? "improve by > " + fmt(o.z_threshold) + " standard errors"

@@ -92,27 +92,12 @@ std::vector<Effect> effect_parameters(const Model& model, const std::vector<Effe
 
 namespace {
 
-// Variance of x about each record's mean, pooled over the records.
-double pooled_variance(const Dataset& data) {
-  double ss = 0.0;
-  std::size_t n = 0;
-  for (const auto& r : data.records) {
-    const double* x = data.x_of(r);
-    double mean = 0.0;
-    for (std::size_t i = 0; i < r.size; ++i) mean += x[i];
-    mean /= static_cast<double>(r.size);
-    for (std::size_t i = 0; i < r.size; ++i) ss += (x[i] - mean) * (x[i] - mean);
-    n += r.size;
-  }
-  return n > 1 ? ss / static_cast<double>(n - 1) : 0.0;
-}
-
 // White sensor noise adds its variance to x's: an estimate above var(x) is not a noise level but
 // a sign of data the model of the sampling does not describe (glitches, a wrong column).
 void check_sensor_noise(const Result& r, const Dataset& data) {
   if (!r.model.fit) return;
   const double sd = r.model.fit->sampling.sensor_noise_sd;
-  const double var = pooled_variance(data);
+  const double var = pooled_record_variance(data);
   if (sd > 0.0 && sd * sd > var)
     throw Error("identify: the sensor-noise estimate (sd " + std::to_string(sd) +
                 ") exceeds the spread of x itself (sd " + std::to_string(std::sqrt(var)) +

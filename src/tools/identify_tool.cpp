@@ -550,6 +550,7 @@ int run_identify(Config& c, const AppOptions& app) {
               << "autocorrelation " << g(s.rho_k) << " at stride " << s.stride << ", neither about 0 nor about +1/4 "
               << "at the strides tried): quantised values, dropouts, stuck or clipped stretches? the estimates may be "
               << "biased beyond their standard errors\n";
+  for (const std::string& w : refinement.warnings) std::cerr << "warning: " << output << ": " << w << "\n";
   if (!app.quiet) {
     std::printf("estimator: %s (stride %d; %s)\n", enum_to_string(kEstimatorNames, r.model.fit->estimator).c_str(),
                 r.model.fit->stride, r.report.estimator.reason.c_str());

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/likelihood/input_reading.hpp"
 #include "vehs/likelihood/record_phase_start.hpp"
@@ -168,9 +169,21 @@ Refinement refine_moment_fit(Model& model, const Dataset& data, const Likelihood
   lf.bias_correction_max_shift_se = r.summary.bias_correction_max_se;
   lf.bias_correction_skipped = r.summary.bias_correction_skipped;
   fit.likelihood = std::move(lf);
+  out.warnings = forcing_frequency_warnings(model, r.model.model);
   model = r.model.model;
   model.fit = std::move(fit);
   return out;
+}
+
+std::vector<std::string> forcing_frequency_warnings(const Model& moment, const Model& refined) {
+  const Effect* a = moment.find_effect(EffectId::HarmonicForcing);
+  const Effect* b = refined.find_effect(EffectId::HarmonicForcing);
+  if (!a || !b || !a->params.count("omega") || !b->params.count("omega")) return {};
+  const double w0 = a->params.at("omega"), w = b->params.at("omega");
+  if (!(w0 > 0.0) || (w >= 0.8 * w0 && w <= 1.25 * w0)) return {};
+  return {"the likelihood moved harmonic_forcing.omega from " + vehs::detail::format_number(w0, 4) + " (the moment fit) to " + vehs::detail::format_number(w, 4) +
+          ": likely another local maximum, not the forcing; compare the log-likelihood with a fit of fewer effects "
+          "(e.g. the forcing alone)"};
 }
 
 }  // namespace vehs::tools

@@ -5,6 +5,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "tools/config.hpp"
 #include "vehs/core/dataset.hpp"
@@ -44,7 +45,15 @@ struct Refinement {
   likelihood::SamplingAdequacy adequacy;
   std::optional<likelihood::Result> result;  ///< set when the likelihood was used
   std::string input_reason;  ///< why the input interpolation (set when `input: "auto"` chose it)
+  /// What the user should check ("harmonic_forcing.omega moved from 1.205 in the moment fit to
+  /// 49.8": another local maximum of the likelihood is likelier than a forcing 40× faster).
+  std::vector<std::string> warnings;
 };
+
+/// A warning when the likelihood moved harmonic_forcing's ω outside [0.8, 1.25]× the moment
+/// fit's (an outside tester's per-record forcing with an electrical state went from ω 1.205 to
+/// 49.8, 263 nats below the fit with the forcing alone, with no warning); else none.
+std::vector<std::string> forcing_frequency_warnings(const Model& moment_fit, const Model& refined);
 
 /// The moment fit of a data set (identify with the config's options), for per-record starts.
 using MomentFit = std::function<Model(const Dataset&)>;

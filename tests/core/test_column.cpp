@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <vector>
 
 #include "vehs/core/column.hpp"
@@ -65,4 +66,15 @@ TEST_CASE("subtract_record_means copies a viewing column and leaves the caller's
   CHECK_FALSE(d.x.is_view());
   CHECK(d.x == vehs::Column({-1.0, 0.0, 1.0, -10.0, 0.0, 10.0}));
   CHECK(memory == std::vector<double>{1.0, 2.0, 3.0, 10.0, 20.0, 30.0});
+}
+
+TEST_CASE("the pooled variance of x about each record's own mean", "[core][dataset]") {
+  // records {1, 2, 3} and {10, 20, 30}: squares about the means 2 + 200, over 6 − 1 samples
+  const std::vector<double> memory{1.0, 2.0, 3.0, 10.0, 20.0, 30.0};
+  CHECK(vehs::pooled_record_variance(viewing(memory)) == Approx(202.0 / 5.0));
+  vehs::Dataset one;
+  one.records.push_back(vehs::Record{});
+  one.records[0].size = 1;
+  one.x.push_back(4.0);
+  CHECK(std::isnan(vehs::pooled_record_variance(one)));
 }

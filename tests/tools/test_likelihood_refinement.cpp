@@ -13,6 +13,7 @@
 
 #include "../likelihood/likelihood_fixtures.hpp"
 #include "stat_bounds.hpp"
+#include "tools/likelihood_refinement.hpp"
 #include "tools/tools.hpp"
 #include "vehs/io/measurements.hpp"
 #include "vehs/io/model_file.hpp"
@@ -393,4 +394,22 @@ TEST_CASE("identify-vehs never writes a model simulate-vehs refuses: an estimate
   std::vector<char*> argv;
   for (auto& s : a) argv.push_back(s.data());
   CHECK(tools::simulate_main(static_cast<int>(argv.size()), argv.data()) == 0);
+}
+
+TEST_CASE("identify-vehs warns when the likelihood moves a forcing's frequency far from the moment fit's",
+          "[likelihood][tools]") {
+  // an outside tester's per-record forcing with a spurious electrical state: ω 1.205 -> 49.82
+  vehs::Model moment;
+  moment.effects.push_back(vehs::Effect{vehs::EffectId::HarmonicForcing, {{"amplitude", 0.08}, {"omega", 1.205}, {"phase", 0.0}}, {}});
+  vehs::Model refined = moment;
+  refined.effects[0].params["omega"] = 49.82;
+  const auto far = vehs::tools::forcing_frequency_warnings(moment, refined);
+  REQUIRE(far.size() == 1);
+  CHECK(far[0].find("from 1.205") != std::string::npos);
+  CHECK(far[0].find("to 49.82") != std::string::npos);
+  refined.effects[0].params["omega"] = 1.2019;  // a refinement, not a jump
+  CHECK(vehs::tools::forcing_frequency_warnings(moment, refined).empty());
+  refined.effects[0].params["omega"] = 0.9;  // below 0.8x
+  CHECK(vehs::tools::forcing_frequency_warnings(moment, refined).size() == 1);
+  CHECK(vehs::tools::forcing_frequency_warnings(vehs::Model{}, refined).empty());
 }

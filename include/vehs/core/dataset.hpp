@@ -46,6 +46,10 @@ struct Dataset {
   void own();
 };
 
+/// The variance of x about each record's own mean, pooled over the records (divisor: samples − 1);
+/// NaN with fewer than 2 samples.
+double pooled_record_variance(const Dataset& data);
+
 /// "file: record traj=3 (from line 12)": how every error names a record.
 std::string record_name(const Record& record);
 
