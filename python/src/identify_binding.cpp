@@ -28,11 +28,13 @@ std::shared_ptr<const Dataset> detrended(const Records& records, const tools::Co
   return copy;
 }
 
-/// The refinement as the report states it: whether the likelihood was used and why.
+/// The refinement as the report states it: whether the likelihood was used and why, and what
+/// to check (tools::Refinement::warnings).
 nlohmann::ordered_json refinement_json(const tools::Refinement& f) {
   nlohmann::ordered_json j;
   j["used"] = f.result.has_value();
   j["sampling"] = f.adequacy.reason;
+  if (!f.warnings.empty()) j["warnings"] = f.warnings;
   if (f.result) {
     j["log_likelihood"] = f.result->log_likelihood;
     j["bic"] = f.result->bic;

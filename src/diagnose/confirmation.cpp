@@ -279,7 +279,7 @@ std::string size_text(const Confirmation& c) {
   for (const EffectParamSpec& p : effect_spec(enum_from_string(kEffectNames, c.effect, "effect")).params) {
     const auto v = c.params.find(std::string(p.name));
     const auto se = c.params_stderr.find(std::string(p.name));
-    if (!measures_size(p) || v == c.params.end() || se == c.params_stderr.end()) continue;
+    if (!measures_size(p) || v == c.params.end() || se == c.params_stderr.end() || !(se->second > 0.0)) continue;
     t += (t.empty() ? "" : ", ") + std::string(p.name) + " " + fmt(v->second) + " ± " + fmt(se->second) + " (z " +
          fmt(std::abs(v->second) / se->second) + ")";
   }
@@ -328,9 +328,8 @@ void confirm_jointly(ConfirmationReport& rep, const std::vector<PieceScores>& al
       PieceScores with = score_pieces(r, split, input, true, rep.driven, o.free_run_skip);
       with.trace = {};
       judge(joint, kept_scores, with, nullptr, judging);  // no all-data evidence beyond the kept: z_threshold
-      const std::string size = size_text(joint);
       if (joint.confirmed && effect_size_z(joint) <= o.z_threshold) {
-        c.reason = "not confirmed: beyond " + kept_names + " its size is not significant in the joint refit (" + size +
+        c.reason = "not confirmed: beyond " + kept_names + " its size is not significant in the joint refit (" + size_text(joint) +
                    "; " + joint.reason.substr(joint.reason.find(':') + 2) + "; alone: " + alone + ")";
         c.confirmed = false;
         continue;
@@ -368,7 +367,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
   rep.pieces = static_cast<int>(split.held.records.size());
   rep.driven = model.uses_drive() && split.held.has_u();
   rep.by_likelihood = refits_by_likelihood(model, lens);
-  const bool by_filter = refits_by_likelihood(model, lens);
+  const bool by_filter = rep.by_likelihood;
   const InputInterpolation input = input_of(model);
   rep.criterion = std::string("refits on the first ") + fmt(100.0 * (1.0 - o.holdout), 3) +
                   " % of every record (identify" + (by_filter ? " + maximum likelihood" : "") +

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <exception>
+#include <limits>
 
 #include "comparison.hpp"
 #include "vehs/core/record_phases.hpp"
@@ -141,16 +142,14 @@ Lens choose_lens(const Options& opt, const FitInfo& fit, const Pilot& pilot, dou
   return lens;
 }
 
-/// The likelihood fit's sensor noise is resolved: above twice its standard error (no standard
-/// error: positive). A noise estimate at the boundary (2e-7 to 4e-5 on noise-free records) is
-/// no sensor: the data are read as continuous-time.
-bool measurement_noise_resolved(const LikelihoodFit& lf) {
-  if (!(lf.measurement_sd > 0.0)) return false;
+/// The likelihood fit's sensor noise is resolved (fit_info.hpp), its SE from the fit's covariance.
+bool noise_resolved(const LikelihoodFit& lf) {
   const std::size_t n = lf.parameters.size();
+  double se = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t i = 0; i < n; ++i)
     if (lf.parameters[i] == "measurement_sd" && lf.covariance.size() == n * n)
-      return !(std::sqrt(std::max(lf.covariance[i * n + i], 0.0)) > 0.5 * lf.measurement_sd);
-  return true;
+      se = std::sqrt(std::max(lf.covariance[i * n + i], 0.0));
+  return measurement_noise_resolved(lf.measurement_sd, se);
 }
 
 }  // namespace
@@ -218,7 +217,7 @@ SamplingChoice choose_sampling_and_lens(const Model& model, const Dataset& data,
   // (the moment pilot's reading, kept in the file, can be wrong at coarse sampling), and its
   // coefficients do not depend on the sampling interval.
   if (fit.likelihood)
-    si.model_verdict = measurement_noise_resolved(*fit.likelihood) ? SamplingVerdict::Noisy : SamplingVerdict::ContinuousTime;
+    si.model_verdict = noise_resolved(*fit.likelihood) ? SamplingVerdict::Noisy : SamplingVerdict::ContinuousTime;
   if (opt.check_model_sampling && !fit.likelihood && si.model_dt > 0.0 && std::abs(si.model_dt - dt) > 1e-6 * dt)
     throw Error("the model was identified from data sampled at dt = " + fmt(si.model_dt, 8) +
                 " (its 'sampling.dt') but these data are sampled at dt = " + fmt(dt, 8) +

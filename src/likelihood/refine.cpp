@@ -456,11 +456,11 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
       options.log(line);
     }
   }
-  choice.fit_measurement_noise = res.find("measurement_sd") >= 0;
-  // automatic only where the fitted sensor noise is resolved (> 2 SE): an estimate at the
-  // boundary (an outside tester's noise-free records: 2e-7 to 4e-5) is no sensor to correct for
   const int noise = res.find("measurement_sd");
-  const bool noise_resolved = noise >= 0 && !(res.stderrs[noise] > 0.5 * res.values[noise]);
+  choice.fit_measurement_noise = noise >= 0;
+  // automatic only where the fitted sensor noise is resolved (fit_info.hpp)
+  const bool noise_resolved =
+      noise >= 0 && measurement_noise_resolved(res.values[std::size_t(noise)], res.stderrs[std::size_t(noise)]);
   if (options.bias_correction_datasets > 0 && !options.bias_correction_auto) {
     detail::correct_filter_bias(res, data, options, choice);
   } else if (options.bias_correction_datasets > 0 && noise_resolved && !options.per_record_phase) {

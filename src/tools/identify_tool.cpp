@@ -400,6 +400,7 @@ nlohmann::ordered_json adequacy_json(const Refinement& f) {
   j["likelihood"] = f.result ? "used" : "not used";
   j["reason"] = f.adequacy.reason;
   if (!f.input_reason.empty()) j["input"] = f.input_reason;
+  if (!f.warnings.empty()) j["warnings"] = f.warnings;
   return j;
 }
 

@@ -72,6 +72,12 @@ inline constexpr EnumNames<InputInterpolation, 4> kInputInterpolationNames{
      {InputInterpolation::Cubic, "cubic"},
      {InputInterpolation::BandLimited, "band_limited"}}};
 
+/// A fitted sensor noise sd is resolved when it exceeds twice its standard error (no standard
+/// error: when positive). An estimate at the boundary (noise-free records: 2e-7 to 4e-5) is no
+/// sensor: no automatic bias correction (likelihood/refine.cpp) and a continuous-time reading
+/// in diagnose (diagnose/sampling.cpp).
+inline bool measurement_noise_resolved(double sd, double stderr_) { return sd > 0.0 && !(stderr_ > 0.5 * sd); }
+
 /// What maximum likelihood (vehs/likelihood/refine.hpp) adds to a fit: how the data were
 /// observed and the figures of the fit (the model file's "likelihood" section).
 struct LikelihoodFit {
