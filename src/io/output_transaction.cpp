@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -32,6 +33,7 @@ struct Slot {
 Slot g_slots[kSlots];
 std::atomic<bool> g_committing{false};
 std::atomic<int> g_deferred_signal{0};
+std::atomic<pid_t> g_child{0};
 const char* g_program = "vehs";
 
 void remove_temporaries() noexcept {
@@ -64,6 +66,11 @@ extern "C" void on_signal(int sig) {
     g_deferred_signal.store(sig);
     return;
   }
+  if (const pid_t child = g_child.exchange(0); child > 0) {  // gnuplot: stop it before its files go
+    ::kill(child, SIGKILL);
+    while (::waitpid(child, nullptr, 0) < 0 && errno == EINTR) {
+    }
+  }
   remove_temporaries();
   exit_on_signal(sig, ": interrupted; no outputs written, temporary files removed\n");
 }
@@ -89,6 +96,9 @@ int register_temporary(const std::string& path, bool directory) {
 void unregister_temporary(int slot) noexcept {
   if (slot >= 0 && slot < kSlots) g_slots[slot].state.store(0);
 }
+
+void register_child(pid_t pid) noexcept { g_child.store(pid); }
+void unregister_child() noexcept { g_child.store(0); }
 
 void install_signal_cleanup(const char* program) {
   g_program = program;

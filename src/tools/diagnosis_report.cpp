@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "tools/diagnosis_file.hpp"
+#include "tools/figures.hpp"
 #include "tools/measurement_config.hpp"
 #include "tools/table.hpp"
 #include "vehs/core/detail/format.hpp"
@@ -51,12 +52,13 @@ std::string band_plot(const std::string& csv, const std::string& title, const st
                       const std::string& ylabel, bool logx, bool logy, const std::string& extra = "",
                       std::size_t points = 0) {
   std::ostringstream os;
-  os << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel '" << ylabel << "'\n"
+  os << "set title " << gnuplot_quote(title) << "\nset xlabel " << gnuplot_quote(xlabel) << "\nset ylabel "
+     << gnuplot_quote(ylabel) << "\n"
      << "set key below horizontal\nset grid\n";  // the legend under the plot, off the data
   if (logx) os << "set logscale x\n";
   if (logy) os << "set logscale y\nset format y '%g'\n";
   const std::string lo = logy ? "($4-2*$5 > 0 ? $4-2*$5 : $4/10)" : "($4-2*$5)";
-  os << "plot '" << csv << "' skip 1 using 1:" << lo << ":($4+2*$5) with filledcurves fc rgb '#c6dbef' "
+  os << "plot " << gnuplot_quote(csv) << " skip 1 using 1:" << lo << ":($4+2*$5) with filledcurves fc rgb '#c6dbef' "
      << "title 'model twins ± 2 se', \\\n"
      << "  '' skip 1 using 1:4 with lines lw 2 lc rgb '#2171b5' title 'model twins', \\\n";
   if (points > kDenseCurve) {  // the data as a line, error bars on every k-th point
@@ -189,8 +191,8 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
     const double wx = (m.x_hi - m.x_lo) / std::max(m.nx, 1), wv = (m.v_hi - m.v_lo) / std::max(m.nv, 1);
     auto map_body = [&](int col, const std::string& title) {
       std::ostringstream os;
-      os << "set title '" << title << "'\nset xlabel '" << axis("x", "x") << "'\nset ylabel '"
-         << axis("v (lens velocity)", "v") << "'\n" << kDiverging
+      os << "set title " << gnuplot_quote(title) << "\nset xlabel " << gnuplot_quote(axis("x", "x"))
+         << "\nset ylabel " << gnuplot_quote(axis("v (lens velocity)", "v")) << "\n" << kDiverging
          << "set cblabel 'z (clipped at ±5)'\nset xrange [" << m.x_lo << ":" << m.x_hi << "]\nset yrange [" << m.v_lo
          << ":" << m.v_hi << "]\nset size ratio 0.75\n"
          << "plot 'one_step_map.csv' skip 1 using 1:2:($14 > 0 ? ($" << col << " > 5 ? 5 : ($" << col
@@ -225,9 +227,9 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
                       "Where along v (left) and x (right) the misfit sits: mean z² of the residual mean and "
                       "log-variance over the bins of each column / row. About 1 (dashed) for an adequate model.",
                       "set multiplot layout 1,2\nset grid\nset key below\nset ylabel 'mean z^2'\n"
-                      "set xlabel '" + axis("v", "v") + "'\nplot 'one_step_profile_v.csv' skip 1 using 1:2 with linespoints pt 7 title "
+                      "set xlabel " + gnuplot_quote(axis("v", "v")) + "\nplot 'one_step_profile_v.csv' skip 1 using 1:2 with linespoints pt 7 title "
                       "'residual mean', '' skip 1 using 1:3 with linespoints pt 5 title 'residual variance', 1 "
-                      "with lines dt 2 lc rgb 'black' notitle\nset xlabel '" + axis("x", "x") + "'\nplot 'one_step_profile_x.csv' skip 1 "
+                      "with lines dt 2 lc rgb 'black' notitle\nset xlabel " + gnuplot_quote(axis("x", "x")) + "\nplot 'one_step_profile_x.csv' skip 1 "
                       "using 1:2 with linespoints pt 7 title 'residual mean', '' skip 1 using 1:3 with linespoints "
                       "pt 5 title 'residual variance', 1 with lines dt 2 lc rgb 'black' notitle\nunset multiplot");
     ReportTable wt;
@@ -287,7 +289,8 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
     pxy.write_csv(report.folder() + "/pxy.csv");
     std::ostringstream body;
     body << "set multiplot layout 1,2\nset palette rgbformulae 33,13,10\nset cbrange [0:" << (pmax > 0 ? pmax : 1)
-         << "]\nset xlabel '" << axis("x", "x") << "'\nset ylabel '" << axis("v", "v") << "'\nset xrange [" << r.pxy_x_lo << ":" << r.pxy_x_hi << "]\nset yrange ["
+         << "]\nset xlabel " << gnuplot_quote(axis("x", "x")) << "\nset ylabel " << gnuplot_quote(axis("v", "v"))
+         << "\nset xrange [" << r.pxy_x_lo << ":" << r.pxy_x_hi << "]\nset yrange ["
          << r.pxy_v_lo << ":" << r.pxy_v_hi << "]\nset title 'data'\nplot 'pxy.csv' skip 1 using 1:2:3 with image "
          << "pixels notitle\nset title 'model twins'\nplot 'pxy.csv' skip 1 using 1:2:4 with image pixels notitle\n"
          << "unset multiplot";

@@ -203,9 +203,9 @@ std::vector<std::string> density_figures(const std::string& dir, const FpkModel&
     }
   });
   std::ostringstream heat;
-  heat << "set title 'stationary density p(x, y) (" << r.summary.scheme << ", " << g.x.n << "x" << g.y.n
-       << " cells; shown where p > 1e-4 of its peak)'\nset xlabel '" << xl << "'\nset ylabel '" << yl
-       << "'\nset view map\nset pm3d map interpolate 0,0\n"
+  heat << "set title " << gnuplot_quote("stationary density p(x, y) (" + r.summary.scheme + ", " + std::to_string(g.x.n) + "x" +
+                                    std::to_string(g.y.n) + " cells; shown where p > 1e-4 of its peak)")
+       << "\nset xlabel " << gnuplot_quote(xl) << "\nset ylabel " << gnuplot_quote(yl) << "\nset view map\nset pm3d map interpolate 0,0\n"
           "set palette rgb 33,13,10\nset cbrange [0:*]\nset xrange [" << x0 << ":" << x1 << "]\nset yrange ["
        << y0 << ":" << y1 << "]\nset key off\n"
           "splot 'density_map.csv' skip 1 using 1:2:3 with pm3d\n";
@@ -213,9 +213,9 @@ std::vector<std::string> density_figures(const std::string& dir, const FpkModel&
   // Marginals with the potential and the wells.
   write_marginals(dir + "/marginal_x.csv", dir + "/marginal_y.csv", model, r);
   std::ostringstream mx;
-  mx << "set multiplot layout 1,2\nset title 'p(x) and the potential U(x)'\nset xlabel '" << xl << "'\n"
-        "set ylabel '" << with_unit("p(x)", "1/x", units) << "'\nset y2label '" << with_unit("U(x)", "v2", units)
-     << "'\nset ytics nomirror\nset y2tics\nset key below horizontal\n";
+  mx << "set multiplot layout 1,2\nset title 'p(x) and the potential U(x)'\nset xlabel " << gnuplot_quote(xl) << "\nset ylabel "
+     << gnuplot_quote(with_unit("p(x)", "1/x", units)) << "\nset y2label " << gnuplot_quote(with_unit("U(x)", "v2", units))
+     << "\nset ytics nomirror\nset y2tics\nset key below horizontal\n";
   for (const auto& w : r.wells)
     if (w.lo > g.x.min) mx << "set arrow from " << w.lo << ", graph 0 to " << w.lo << ", graph 1 nohead dt 3 lc rgb 'gray'\n";
   double umin = 1e300;
@@ -228,7 +228,7 @@ std::vector<std::string> density_figures(const std::string& dir, const FpkModel&
   mx << "set y2range [" << umin - 0.05 * span << ":" << umin + span << "]\n";
   mx << "plot 'marginal_x.csv' skip 1 using 1:2 with lines lw 2 title 'p(x)', "
         "'' skip 1 using 1:3 axes x1y2 with lines dt 2 title 'U(x)'\n"
-        "unset arrow\nset title 'p(y)'\nset xlabel '" << yl << "'\nset ylabel 'p(y)'\nunset y2label\nunset y2tics\n"
+        "unset arrow\nset title 'p(y)'\nset xlabel " << gnuplot_quote(yl) << "\nset ylabel 'p(y)'\nunset y2label\nunset y2tics\n"
         "set ytics mirror\nplot 'marginal_y.csv' skip 1 using 1:2 with lines lw 2 title 'p(y)'\n"
         "unset multiplot\n";
   if (auto f = render_figure(dir, "marginals", mx.str(), "svg", 1100, 480); !f.empty()) out.push_back(f);
@@ -244,7 +244,7 @@ std::vector<std::string> sweep_figures(const std::string& dir, const SweepResult
   const std::size_t cx2 = np + 1, cy2 = np + 2;
   if (np == 1) {
     std::ostringstream b;
-    b << "set multiplot layout 1,2\nset xlabel '" << sw.axes[0].name << "'\nset key off\nset grid\n"
+    b << "set multiplot layout 1,2\nset xlabel " << gnuplot_quote(sw.axes[0].name) << "\nset key off\nset grid\n"
       << "set title 'E[Y^2] (mean power ~ E[Y^2])'\nplot 'sweep.csv' skip 1 using 1:" << cy2
       << " with linespoints pt 7\nset title 'E[X^2]'\nplot 'sweep.csv' skip 1 using 1:" << cx2
       << " with linespoints pt 7\nunset multiplot\n";
@@ -267,8 +267,8 @@ std::vector<std::string> sweep_figures(const std::string& dir, const SweepResult
   for (int which = 0; which < 2; ++which) {
     std::ostringstream b;
     const char* what = which == 0 ? "E[Y^2]" : "E[X^2]";
-    b << "set title '" << what << "'\nset xlabel '" << sw.axes[0].name << "'\nset ylabel '"
-      << sw.axes[1].name << "'\nset pm3d\nset palette rgb 33,13,10\nset hidden3d\nset key off\n"
+    b << "set title '" << what << "'\nset xlabel " << gnuplot_quote(sw.axes[0].name) << "\nset ylabel "
+      << gnuplot_quote(sw.axes[1].name) << "\nset pm3d\nset palette rgb 33,13,10\nset hidden3d\nset key off\n"
       << "set ticslevel 0\nsplot 'sweep_surface.csv' skip 1 using 1:2:" << (which == 0 ? 4 : 3)
       << " with pm3d\n";
     if (auto f = render_figure(dir, which == 0 ? "sweep_EY2" : "sweep_EX2", b.str()); !f.empty())

@@ -74,7 +74,7 @@ void add_points(Table& t, const identify::BinnedCurve& c) {
 
 std::string identify_figure(const std::string& dir, const Model& model, const Dataset& data,
                             const nlohmann::json& units) {
-  std::filesystem::create_directories(dir);
+  // (the folder is created by the first staged file: inside a run's transaction it goes with a rollback)
   const identify::BinnedEstimates km = identify::binned_estimates(data, model);
   const auto x_only = [](const Term& t) { return !t.depends_on_y() && !t.depends_on_u(); };
   const auto y_part = [](const Term& t) { return t.depends_on_y(); };
@@ -106,17 +106,17 @@ std::string identify_figure(const std::string& dir, const Model& model, const Da
   const std::string pts = " with yerrorbars pt 7 ps 0.5 lc rgb '#cb181d' title 'data, binned (± se)'";
   std::ostringstream gp;
   gp << "set multiplot layout 2,2\nset grid\nset key below horizontal font ',10'\n"
-     << "set title 'drift at y = 0: x-only terms'\nset xlabel '" << X << "'\nset ylabel '" << B << "'\n"
+     << "set title 'drift at y = 0: x-only terms'\nset xlabel " << gnuplot_quote(X) << "\nset ylabel " << gnuplot_quote(B) << "\n"
      << "plot 'identify_fit_model.csv' skip 1 using 1:($2-1.96*$3):($2+1.96*$3)" << band << ", '' skip 1 using 1:2"
      << line << ", 'identify_fit_km_x.csv' skip 1 using 1:2:3" << pts << "\n"
-     << "set title 'drift at x = 0: velocity terms'\nset xlabel '" << V << "'\n"
+     << "set title 'drift at x = 0: velocity terms'\nset xlabel " << gnuplot_quote(V) << "\n"
      << "plot 'identify_fit_model.csv' skip 1 using 8:($9-1.96*$10):($9+1.96*$10)" << band << ", '' skip 1 using 8:9"
      << line << ", 'identify_fit_km_v.csv' skip 1 using 1:2:3" << pts << "\n"
-     << "set title 'potential U(x) = -integral of the x-only drift'\nset xlabel '" << X << "'\nset ylabel '"
-     << with_unit("U", "v2", units) << "'\n"
+     << "set title 'potential U(x) = -integral of the x-only drift'\nset xlabel " << gnuplot_quote(X)
+     << "\nset ylabel " << gnuplot_quote(with_unit("U", "v2", units)) << "\n"
      << "plot 'identify_fit_model.csv' skip 1 using 1:($4-1.96*$5):($4+1.96*$5)" << band << ", '' skip 1 using 1:4"
      << line << "\n"
-     << "set title 'diffusion a22(x, 0)'\nset xlabel '" << X << "'\nset ylabel '" << A << "'\n"
+     << "set title 'diffusion a22(x, 0)'\nset xlabel " << gnuplot_quote(X) << "\nset ylabel " << gnuplot_quote(A) << "\n"
      << "plot 'identify_fit_model.csv' skip 1 using 1:($6-1.96*$7):($6+1.96*$7)" << band << ", '' skip 1 using 1:6"
      << line << ", 'identify_fit_km_diffusion.csv' skip 1 using 1:2:3" << pts << "\nunset multiplot\n";
   return render_figure(dir, "identify_fit", gp.str(), "svg", 1100, 860);

@@ -92,12 +92,10 @@ std::string figure_script(const std::string& data_name, const std::vector<Segmen
   for (std::size_t i = 0; i < segments.size(); ++i) {
     const std::string sel = "($1 == " + std::to_string(i) + " && $2 >= " + std::to_string(skip) + " && $2 < " +
                             std::to_string(skip + samples) + " ? ";
-    std::string title = segments[i].name;
-    std::replace(title.begin(), title.end(), '\'', ' ');
-    body += "set title '" + title + ": RMSE " + num(results[i].rmse * scale, 3) + " " + unit + "'\n";
+    body += "set title " + gnuplot_quote(segments[i].name + ": RMSE " + num(results[i].rmse * scale, 3) + " " + unit) + "\n";
     body += "set xrange [" + num(t_first[i] + double(skip) * dt[i], 12) + ":" +
             num(t_first[i] + double(skip + samples) * dt[i], 12) + "]\n";
-    body += "plot '" + data_name + "' using 3:" + sel + "$5 : 1/0) with lines lw 2 title 'measured', '' using 3:" + sel +
+    body += "plot " + gnuplot_quote(data_name) + " using 3:" + sel + "$5 : 1/0) with lines lw 2 title 'measured', '' using 3:" + sel +
             "$6 : 1/0) with lines dt 2 title 'simulated', '' using 3:" + sel + "$5 - $6 : 1/0) with lines title 'error'\n";
   }
   return body + "unset multiplot\n";

@@ -88,8 +88,14 @@ std::string current_output_path(const std::string& destination);
 /// register_temporary returns a slot for unregister_temporary.
 int register_temporary(const std::string& path, bool directory);
 void unregister_temporary(int slot) noexcept;
-/// Installs handlers for SIGINT, SIGTERM and SIGHUP that remove every registered temporary file
-/// and folder, print one line and exit with status 128 + signal (130 for SIGINT, 143 for SIGTERM).
+/// Installs handlers for SIGINT, SIGTERM and SIGHUP that stop the registered child process (if
+/// any), remove every registered temporary file and folder, print one line and exit with status
+/// 128 + signal (130 for SIGINT, 143 for SIGTERM).
 void install_signal_cleanup(const char* program);
+
+/// The external program the process is waiting for (one at a time: gnuplot), which the signal
+/// handler kills and reaps before it removes the temporaries the program may still be writing.
+void register_child(pid_t pid) noexcept;
+void unregister_child() noexcept;
 
 }  // namespace vehs
