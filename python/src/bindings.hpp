@@ -8,6 +8,7 @@ namespace vehs::python {
 namespace nb = nanobind;
 
 void bind_records(nb::module_& m);
+void bind_read(nb::module_& m);
 void bind_model(nb::module_& m);
 void bind_simulate(nb::module_& m);
 void bind_identify(nb::module_& m);

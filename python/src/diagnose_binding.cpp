@@ -41,13 +41,14 @@ std::pair<std::string, std::string> diagnose_records(const ModelFile& model, con
   require(!model.model.drift.empty(), label + ": the model has no drift terms");
   require(!model.model.diffusion.empty(), label + ": the model has no diffusion terms");
   if (!report.empty()) tools::read_history((std::filesystem::path(report) / "history.json").string());
+  const std::shared_ptr<const Dataset> data = checked_records(records, c);
   const diagnose::Result r = run_released(std::move(progress), false, [&](const ProgressCallback& cb) {
     o.progress = cb;
-    return diagnose::diagnose(model.model, *records.data, o);
+    return diagnose::diagnose(model.model, *data, o);
   });
   nlohmann::ordered_json j = tools::diagnosis_to_json(r, &model.model);
   j["label"] = label;
-  const std::string html = report.empty() ? "" : write_report(report, label, model, *records.data, r);
+  const std::string html = report.empty() ? "" : write_report(report, label, model, *data, r);
   j["report"] = html;
   return {json_text(j), html};
 }

@@ -16,14 +16,15 @@ namespace vehs::python {
 
 namespace {
 
-/// The records to work on: `records` itself, or with detrend "mean" a copy without the record
-/// means (subtract_record_means copies columns that view a NumPy array: the caller's arrays stay
+/// The records to work on: `records` after the data checks (checked_records), or with detrend
+/// "mean" a copy without the record means (subtract_record_means copies columns that view a NumPy array: the caller's arrays stay
 /// as they are).
 std::shared_ptr<const Dataset> detrended(const Records& records, const tools::Config& c) {
   const std::string detrend = c.string_or("detrend", "none");
-  if (detrend == "none") return records.data;
+  std::shared_ptr<const Dataset> checked = checked_records(records, c);
+  if (detrend == "none") return checked;
   if (detrend != "mean") c.fail("detrend", "must be \"none\" or \"mean\" (got \"" + detrend + "\")");
-  auto copy = std::make_shared<Dataset>(*records.data);
+  auto copy = std::make_shared<Dataset>(*checked);
   subtract_record_means(*copy);
   return copy;
 }

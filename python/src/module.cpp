@@ -13,6 +13,7 @@ NB_MODULE(_vehs, m) {
   m.def("set_threads", &vehs::set_threads, nb::arg("threads"), "Threads of the library's parallel loops (0: default).");
   m.def("max_threads", &vehs::max_threads);
   vehs::python::bind_records(m);
+  vehs::python::bind_read(m);
   vehs::python::bind_model(m);
   vehs::python::bind_simulate(m);
   vehs::python::bind_identify(m);

@@ -8,6 +8,7 @@
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
+#include "tools/data_checks.hpp"
 #include "vehs/core/error.hpp"
 
 namespace vehs::python {
@@ -41,6 +42,11 @@ Records records_from_arrays(InColumn x, const std::vector<std::size_t>& sizes, d
     d.records.push_back(rec);
   }
   return r;
+}
+
+std::shared_ptr<const Dataset> checked_records(const Records& records, const tools::Config& options) {
+  if (records.checked) return records.data;
+  return std::make_shared<const Dataset>(tools::checked_measurements(options, *records.data));
 }
 
 nb::object column_view(const vehs::Column& column, nb::handle self) {

@@ -13,6 +13,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
+#include "tools/config.hpp"
 #include "vehs/core/dataset.hpp"
 
 namespace vehs::python {
@@ -25,7 +26,13 @@ using InColumn = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device
 struct Records {
   std::shared_ptr<Dataset> data = std::make_shared<Dataset>();
   std::vector<InColumn> viewed;  ///< the arrays the Dataset's columns view, held while it lives
+  bool checked = false;          ///< read by vehs.read, which ran the data checks already
 };
+
+/// The records identify and diagnose fit: `records` as they are when vehs.read checked them,
+/// else after the data checks of identify-vehs and diagnose-vehs (glitches, flat stretches) under
+/// the options' `glitches` and `flat_stretches` rules, so that arrays get the checks files get.
+std::shared_ptr<const Dataset> checked_records(const Records& records, const tools::Config& options);
 
 /// A Dataset of records of the given sizes, all sampled every `dt` from t = 0, named `source` in
 /// error messages, whose x (and u) view the arrays' memory (no copy).

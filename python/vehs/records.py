@@ -59,6 +59,18 @@ class Records:
         return f"vehs.Records({len(self)} records, {sum(self.sizes)} samples, dt={self.dt:g})"
 
 
+def read(data, **options):
+    """Records from measurement files (CSV, .npy, .mat), read and checked as identify-vehs and
+    diagnose-vehs read them: the same readers and data checks, the same one-line errors (raised as
+    :class:`vehs.Error`). ``data``: a path or a list of paths. Options are the tools' measurement
+    keys: ``columns``, ``dt``, ``mat_variable``, ``sampling``, ``detrend``, ``glitches``,
+    ``flat_stretches``; ``u=True`` requires the drive column in every file (it is read whenever a
+    file has it). identify and diagnose take the Records as checked here."""
+    from .options import options_json
+    options["data"] = [str(p) for p in data] if isinstance(data, (list, tuple)) else [str(data)]
+    return Records(_vehs.read(options_json("vehs.read", options)))
+
+
 def as_records(x, dt=None, u=None, source="x"):
     """Records from a Records (as is), a 2-D array (one record per row), a 1-D array (one record)
     or a list of 1-D arrays (records of any lengths).

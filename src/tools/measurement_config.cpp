@@ -109,11 +109,15 @@ ReadOptions read_options(const Config& c, bool need_u) {
 }
 
 LoadedData load_measurements(const Config& c, bool need_u, const AppOptions& app) {
+  return load_measurements(c, read_options(c, need_u), app.quiet);
+}
+
+LoadedData load_measurements(const Config& c, const ReadOptions& options, bool quiet) {
   const auto files = c.string_list("data");
   if (files.empty()) c.fail("data", "lists no file");
   LoadedData l;
-  l.data = checked_measurements(c, read_measurements(files, read_options(c, need_u), &l.summary));
-  if (!app.quiet || l.summary.dropped_samples > 0)  // samples left out: said even with --quiet
+  l.data = checked_measurements(c, read_measurements(files, options, &l.summary));
+  if (!quiet || l.summary.dropped_samples > 0)  // samples left out: said even with --quiet
     for (const auto& w : l.summary.warnings) std::cerr << "warning: " << w << "\n";
   l.detrend = c.string_or("detrend", "none");
   if (l.detrend == "mean")

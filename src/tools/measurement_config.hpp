@@ -29,6 +29,8 @@ ReadOptions read_options(const Config& c, bool need_u);
 /// Reads the config's `data` files, prints the reader's warnings on stderr (unless quiet) and
 /// detrends.
 LoadedData load_measurements(const Config& c, bool need_u, const AppOptions& app);
+/// The same with explicit reader options (vehs.read: the drive read whenever a file has it).
+LoadedData load_measurements(const Config& c, const ReadOptions& options, bool quiet);
 /// The reading summary for output files: gaps, missing runs, dropped pieces, largest jitter.
 nlohmann::ordered_json read_summary_json(const ReadSummary& s);
 
