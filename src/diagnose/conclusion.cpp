@@ -75,6 +75,25 @@ double smallest_p(const Result& res) {
   return p;
 }
 
+/// A confirming refit that failed (a diverging filter, an optimiser error) is no evidence against
+/// its effect: when the strongest significant suspect's refit failed, the diagnosis names that
+/// suspect, says the refit failed and why, and recommends it, instead of calling the misfit
+/// outside the catalogue. Returns whether it concluded so.
+bool strongest_refit_failed(Result& res) {
+  const std::vector<Candidate> ranked = significant_suspects(res);
+  if (ranked.empty()) return false;
+  const std::string name = enum_to_string(kEffectNames, ranked.front().id);
+  for (const Confirmation& e : res.confirmation.effects)
+    if (e.effect == name && !e.error.empty()) {
+      res.recommended = {name};
+      res.conclusion = "inadequate — suspect " + name + " (" + ranked.front().evidence +
+                       ", the strongest) is not confirmed: its held-out refit failed (" + e.error +
+                       "); add it and identify again; " + failing_components(res);
+      return true;
+    }
+  return false;
+}
+
 }  // namespace
 
 void confirm_suspects(const Model& model, const Dataset& data, const Options& opt, Result& res, Stopwatch& watch) {
@@ -120,6 +139,7 @@ void conclude(Result& res, bool confirmed_by_refits) {
     res.conclusion = "inadequate — add " + join(details, "; ");
     return;
   }
+  if (strongest_refit_failed(res)) return;
   const bool huge = smallest_p(res) < 1e-6 * res.threshold;
   res.outside_catalogue = huge;
   const std::string tried = c.effects.empty() ? std::string("no catalogue effect is significant")

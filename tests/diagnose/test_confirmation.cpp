@@ -148,6 +148,31 @@ TEST_CASE("conclusion: confirmed effects are recommended; none confirmed at a hu
   CHECK(r.recommended[0] == "nonlinear_damping");
   CHECK(r.conclusion.find("nonlinear_damping (held-out one-step log-likelihood +4 nats (z 1.3), in line with ...) — not "
                           "resolved by these data from quadratic_damping") != std::string::npos);
+  // the strongest suspect's refit failed: named and recommended, never "outside the catalogue"
+  r.confirmation.effects.clear();
+  r.score_suspects.ranked.clear();
+  ScoreSuspect friction;
+  friction.effect = "coulomb_friction";
+  friction.significant = true;
+  friction.z = 135.0;
+  r.score_suspects.ranked.push_back(friction);
+  Confirmation diverged;
+  diverged.effect = "coulomb_friction";
+  diverged.error = "likelihood: the filter diverged";
+  diverged.reason = "not confirmed: the refit failed";
+  r.confirmation.effects.push_back(diverged);
+  r.components[0].test.p_value = 1e-40;
+  detail::conclude(r, true);
+  CHECK_FALSE(r.outside_catalogue);
+  REQUIRE(r.recommended.size() == 1);
+  CHECK(r.recommended[0] == "coulomb_friction");
+  CHECK(r.conclusion.rfind("inadequate — suspect coulomb_friction (score test z = 135", 0) == 0);
+  CHECK(r.conclusion.find("its held-out refit failed (likelihood: the filter diverged)") != std::string::npos);
+  // a refit that ran and was rejected on held-out evidence leaves the verdict to the evidence
+  r.confirmation.effects[0].error.clear();
+  detail::conclude(r, true);
+  CHECK(r.recommended.empty());
+  CHECK(r.outside_catalogue);
   // an adequate model recommends nothing
   r.verdict = Verdict::Adequate;
   detail::conclude(r, true);
