@@ -2,8 +2,12 @@
 
 
 def tqdm_progress(**tqdm_options):
-    """A progress callback drawing one tqdm bar per task (tqdm.auto: a widget in notebooks)."""
-    from tqdm.auto import tqdm
+    """A progress callback drawing one tqdm bar per task (tqdm.auto: a widget in notebooks).
+    tqdm comes with the package's ``progress`` extra: ``pip install vehs[progress]``."""
+    try:
+        from tqdm.auto import tqdm
+    except ImportError as e:
+        raise ImportError("vehs.tqdm_progress needs tqdm: pip install 'vehs[progress]' (or pip install tqdm)") from e
 
     bars = {}
 
