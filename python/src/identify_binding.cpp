@@ -35,6 +35,7 @@ nlohmann::ordered_json refinement_json(const tools::Refinement& f) {
   nlohmann::ordered_json j;
   j["used"] = f.result.has_value();
   j["sampling"] = f.adequacy.reason;
+  if (!f.failure.empty()) j["failure"] = f.failure;  // the filter diverged: the moment fit stands
   if (!f.warnings.empty()) j["warnings"] = f.warnings;
   if (f.result) {
     j["log_likelihood"] = f.result->log_likelihood;

@@ -123,7 +123,7 @@ void correct_filter_bias(Result& res, const Dataset& data, const RefineOptions& 
     Derivatives d;
     EvaluationFailure f;
     if (!ev.derivatives(theta.data(), d, false, false, &f))
-      throw Error(ev.message(f) + " (a data set simulated at the estimate)");
+      throw FilterDiverged(ev.message(f) + " (a data set simulated at the estimate)");
     mean_score += d.gradient / double(B);
   }
   // internal-scale covariance from the natural one: C_int = J⁻¹ C J⁻¹

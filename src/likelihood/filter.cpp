@@ -38,7 +38,7 @@ LikelihoodValue log_likelihood(const ObservedModel& model, const Dataset& data,
   return with_evaluator(model, data, options, [](const detail::Evaluator& ev, const double* theta) {
     LikelihoodValue v;
     detail::EvaluationFailure f;
-    if (!ev.value(theta, v.log_likelihood, &f)) throw Error(ev.message(f));
+    if (!ev.value(theta, v.log_likelihood, &f)) throw FilterDiverged(ev.message(f));
     v.observations = ev.observations();
     v.substeps = ev.settings().substeps;
     v.blocks = ev.blocks().size();
@@ -51,7 +51,7 @@ FilterTrace filter_trace(const ObservedModel& model, const Dataset& data,
   return with_evaluator(model, data, options, [](const detail::Evaluator& ev, const double* theta) {
     FilterTrace t;
     detail::EvaluationFailure f;
-    if (!ev.trace(theta, t, &f)) throw Error(ev.message(f));
+    if (!ev.trace(theta, t, &f)) throw FilterDiverged(ev.message(f));
     return t;
   });
 }

@@ -173,7 +173,7 @@ Derivatives derivatives_or_throw(const Evaluator& ev, const Eigen::VectorXd& the
   Derivatives d;
   EvaluationFailure f;
   if (!ev.derivatives(theta.data(), d, true, batches, &f))
-    throw Error(ev.message(f) + std::string(" (") + when + ")");
+    throw FilterDiverged(ev.message(f) + std::string(" (") + when + ")");
   return d;
 }
 
@@ -361,7 +361,7 @@ Result fit_support(const ObservedModel& start, const Dataset& data, const Refine
   {
     double ll0 = 0.0;
     EvaluationFailure f;
-    if (!ev.value(theta.data(), ll0, &f)) throw Error(ev.message(f) + " (at the start values)");
+    if (!ev.value(theta.data(), ll0, &f)) throw FilterDiverged(ev.message(f) + " (at the start values)");
     s.initial_log_likelihood = ll0;
   }
   if (ev.observations() > o.warm_start_samples) {

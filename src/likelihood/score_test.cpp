@@ -119,7 +119,7 @@ std::vector<ScoreTestResult> score_tests(const ObservedModel& model, const Datas
   for (const auto& name : all) tested.push_back(index_of(name));
   detail::Derivatives d;
   detail::EvaluationFailure f;
-  if (!ev.derivatives(p.initial().data(), d, true, true, &f)) throw Error(ev.message(f));
+  if (!ev.derivatives(p.initial().data(), d, true, true, &f)) throw FilterDiverged(ev.message(f));
   std::vector<ScoreTestResult> out;
   for (const auto& g : groups) {
     // this group against the model's own parameters; the other groups stay at their null

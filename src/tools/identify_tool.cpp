@@ -18,6 +18,7 @@
 #include "tools/identify_file.hpp"
 #include "tools/likelihood_refinement.hpp"
 #include "vehs/core/diffusion_in_data.hpp"
+#include "vehs/likelihood/filter_diverged.hpp"
 #include "vehs/likelihood/signals.hpp"
 #include "tools/identify_figures.hpp"
 #include "tools/measurement_config.hpp"
@@ -397,8 +398,9 @@ nlohmann::ordered_json adequacy_json(const Refinement& f) {
   if (std::isfinite(f.adequacy.increments_omega_dt)) j["increments_omega_dt"] = f.adequacy.increments_omega_dt;
   if (std::isfinite(f.adequacy.stiffness_omega_dt)) j["stiffness_omega_dt"] = f.adequacy.stiffness_omega_dt;
   j["vouched"] = f.adequacy.vouched;
-  j["likelihood"] = f.result ? "used" : "not used";
+  j["likelihood"] = f.result ? "used" : !f.failure.empty() ? "failed" : "not used";
   j["reason"] = f.adequacy.reason;
+  if (!f.failure.empty()) j["failure"] = f.failure;
   if (!f.input_reason.empty()) j["input"] = f.input_reason;
   if (!f.warnings.empty()) j["warnings"] = f.warnings;
   return j;
@@ -468,8 +470,17 @@ IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressC
                   {}};
   Options quiet = o;
   quiet.progress = {};
-  fit.refinement = refine_moment_fit(fit.result.model, data, lik,
-                                     [&](const Dataset& one) { return identify::identify(one, quiet).model; });
+  try {
+    fit.refinement = refine_moment_fit(fit.result.model, data, lik,
+                                       [&](const Dataset& one) { return identify::identify(one, quiet).model; });
+  } catch (const likelihood::FilterDiverged& e) {  // no evidence against the model: the moment fit stands
+    fit.refinement = Refinement{};
+    fit.refinement.adequacy = likelihood::assess_sampling(fit.result.model, data);
+    fit.refinement.failure = e.what();
+    fit.refinement.warnings.push_back(std::string("the likelihood could not refine the moment fit (") + e.what() +
+                                      "); the model is the moment fit, with its standard errors");
+    if (log) log("likelihood: failed, the moment fit stands: " + fit.refinement.failure);
+  }
   if (fit.refinement.result) refresh_effect_params(fit.result, o.effects);
   return fit;
 }

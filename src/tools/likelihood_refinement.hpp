@@ -45,6 +45,8 @@ struct Refinement {
   likelihood::SamplingAdequacy adequacy;
   std::optional<likelihood::Result> result;  ///< set when the likelihood was used
   std::string input_reason;  ///< why the input interpolation (set when `input: "auto"` chose it)
+  /// Why the likelihood failed when its filter diverged (identify_fit then keeps the moment fit).
+  std::string failure;
   /// What the user should check ("harmonic_forcing.omega moved from 1.205 in the moment fit to
   /// 49.8": another local maximum of the likelihood is likelier than a forcing 40× faster).
   std::vector<std::string> warnings;

@@ -32,6 +32,10 @@ fs::path work_dir() {
 }
 
 void write_text(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+std::string read_text(const fs::path& p) {
+  std::ifstream f(p);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
 
 int run_identify(const std::vector<std::string>& args, std::string* err = nullptr, std::string* out = nullptr) {
   std::vector<std::string> a{"identify-vehs"};
@@ -254,8 +258,8 @@ TEST_CASE("identify-vehs: harmonic forcing with one phase per record (amplitude 
   }
 }
 
-TEST_CASE("identify-vehs with the likelihood: a filter that diverges, an input shorter than the record and a "
-          "sampling mismatch between files fail with one line naming the problem, nothing written",
+TEST_CASE("identify-vehs with the likelihood: a filter that diverges leaves the moment fit with the reason; an "
+          "input shorter than the record and a sampling mismatch between files fail with one line, nothing written",
           "[tools][likelihood][errors]") {
   const fs::path dir = work_dir();
   const fs::path out = dir / "never_bad.json";
@@ -279,10 +283,26 @@ TEST_CASE("identify-vehs with the likelihood: a filter that diverges, an input s
     const fs::path data = dir / "stiff.csv";
     write_measurements(data.string(), vehs_lik_test::simulate(stiff, 0.7, 1, 700.0, 3),
                        WriteColumns{false, false, 17});
-    run_case("diverges", "\"" + data.string() + "\"",
-             R"("drift_library": ["x", "y"], "diffusion_library": ["1"], "sparsity": "none", "estimator": "likelihood",
-                "likelihood": {"substeps": 1, "select": false})",
-             {"likelihood", "diverged", "stiff.csv"});
+    // the filter still diverges there: the moment fit stands, the warning and the model file say
+    // why (a diverging filter is no evidence against the model, and never ends a fit)
+    const fs::path cfg = dir / "diverges.json";
+    write_text(cfg, R"({"data": ")" + data.string() + R"(", "output": ")" + out.string() + R"(",
+                "drift_library": ["x", "y"], "diffusion_library": ["1"], "sparsity": "none", "estimator": "likelihood",
+                "likelihood": {"substeps": 1, "select": false}})");
+    fs::remove(out);
+    std::string err;
+    REQUIRE(run_identify({cfg.string(), "--quiet"}, &err) == 0);
+    INFO(err);
+    CHECK(err.find("the likelihood could not refine the moment fit") != std::string::npos);
+    CHECK(err.find("diverged") != std::string::npos);
+    CHECK(err.find("stiff.csv") != std::string::npos);
+    CHECK(std::count(err.begin(), err.end(), '\n') == 1);
+    const nlohmann::json written = nlohmann::json::parse(read_text(out));
+    const auto& adequacy = written["estimator"]["sampling_adequacy"];
+    CHECK(adequacy["likelihood"] == "failed");
+    CHECK(adequacy["failure"].get<std::string>().find("diverged") != std::string::npos);
+    CHECK_FALSE(written.contains("likelihood"));
+    fs::remove(out);
   }
   // an input column that stops before x does: under the reader's default policy the record is
   // split there with a warning (rows without an input are missing values: io/measurements.hpp);

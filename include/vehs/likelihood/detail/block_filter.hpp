@@ -8,7 +8,8 @@
 // stationary law of the model linearised at x_0, given x_0 (hidden_prior.hpp), or where that has
 // none y as above, v ~ N(0, v_prior_var) and η from its own stationary law N(0, intensity/2τ).
 // Then for k = 1 … n−1: time update over [t_{k−1}, t_k] by RK4 substeps of the moment equations
-// (the drive held or interpolated over [t_{k−1}, t_k], input_path.hpp), measurement update with
+// (the drive held or interpolated over [t_{k−1}, t_k], input_path.hpp; an interval whose steps
+// leave the domain is redone with finer substeps), measurement update with
 // x_k = x(t_k) + ε_k: innovation e_k = x_k − m_x, S_k = P_xx + σ_ε², log-likelihood
 // −½(log 2πS_k + e_k²/S_k), Kalman gain P_{·x}/S_k.
 #include <cmath>
@@ -53,6 +54,25 @@ struct NoSink {
 
 inline constexpr double kLog2Pi = 1.8378770664093454836;
 
+/// Finer substeps tried, as multiples of the settings' count, on an interval whose RK4 steps
+/// left the domain: a stiff spot the automatic count does not see (Coulomb friction's slope
+/// μ·2φ(0)/√P_yy when the velocity is nearly known, an impact stop's wall). Only that interval
+/// pays; an interval that fails even at the finest is a divergence.
+inline constexpr int kSubstepRefinements[] = {4, 16, 64};
+
+/// One sampling interval's time update: RK4 with `substeps`, retried with finer substeps from
+/// the same state when a step leaves the model's domain. False when every try failed.
+template <class Sys, class State>
+bool propagate_interval(const Sys& sys, double t0, double dt, int substeps, State& s) {
+  const State start = s;
+  if (rk4_propagate(sys, t0, dt, substeps, s)) return true;
+  for (const int finer : kSubstepRefinements) {
+    s = start;
+    if (rk4_propagate(sys, t0, dt, substeps * finer, s)) return true;
+  }
+  return false;
+}
+
 /// Runs the filter over the block and returns Σ_k ℓ_k (k ≥ 1). `sink(k, e_k, S_k, ℓ_k,
 /// filtered state)` is called for every scored sample after its update. On failure returns 0 with `fail` set.
 template <class T, int D, class Sink>
@@ -85,7 +105,7 @@ T filter_block(const Structure& st, const Coefficients<T>& c, const BlockData& b
     sys.set_drive(t_prev, b.dt,
                   b.record_u ? input_cubic(b.record_u, b.record_n, b.first + k - 1, fs.input)
                              : InputCubic{});
-    if (!rk4_propagate(sys, t_prev, b.dt, fs.substeps, s)) {
+    if (!propagate_interval(sys, t_prev, b.dt, fs.substeps, s)) {
       fail = {true, k, "the moment equations left the model's domain (a22 < 0 or a variance <= 0)"};
       return T{};
     }

@@ -12,6 +12,7 @@
 #include "vehs/likelihood/detail/block_filter.hpp"
 #include "vehs/likelihood/detail/parameterization.hpp"
 #include "vehs/likelihood/filter.hpp"
+#include "vehs/likelihood/filter_diverged.hpp"
 
 namespace vehs::likelihood::detail {
 
