@@ -74,7 +74,6 @@ void add_points(Table& t, const identify::BinnedCurve& c) {
 
 std::string identify_figure(const std::string& dir, const Model& model, const Dataset& data,
                             const nlohmann::json& units) {
-  std::filesystem::create_directories(dir);
   const identify::BinnedEstimates km = identify::binned_estimates(data, model);
   const auto x_only = [](const Term& t) { return !t.depends_on_y() && !t.depends_on_u(); };
   const auto y_part = [](const Term& t) { return t.depends_on_y(); };
