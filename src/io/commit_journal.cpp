@@ -7,7 +7,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -42,6 +41,15 @@ long parse_pid(const std::string& digits) {
 }
 
 bool process_gone(long pid) { return ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH; }
+
+/// Whether `path` is one of `own` (compared as files: a folder reached through a link is the same).
+bool is_own(const std::string& path, const std::vector<std::string>& own) {
+  struct stat st {}, other {};
+  if (::stat(path.c_str(), &st) != 0) return false;
+  for (const auto& o : own)
+    if (::stat(o.c_str(), &other) == 0 && other.st_dev == st.st_dev && other.st_ino == st.st_ino) return true;
+  return false;
+}
 
 bool exists(const std::string& path) {
   struct stat st {};
@@ -212,7 +220,7 @@ void recover_stale_staging(const std::string& dir, const std::vector<std::string
     const long pid = parse_pid(staging ? rest : rest.substr(0, rest.find('.')));
     if (pid <= 0) continue;
     const bool mine = pid == static_cast<long>(::getpid());
-    if (mine ? std::find(own.begin(), own.end(), path) != own.end() : !process_gone(pid)) continue;
+    if (mine ? is_own(path, own) : !process_gone(pid)) continue;
     if (staging) {
       recover_one(path, pid, program);
     } else {

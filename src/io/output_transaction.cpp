@@ -261,6 +261,8 @@ void OutputTransaction::lock_output(const std::string& destination) {
   const std::string path = destination + ".lock";
   {
     std::lock_guard<std::mutex> lock(g_mutex);
+    for (const auto& f : lock_files_)
+      if (f.first == path) return;  // held already (a second flock of this process would wait for ever)
     recover(folder_of(destination));
     make_directories(folder_of(destination));
   }

@@ -229,3 +229,20 @@ TEST_CASE("a stale staging folder without a journal is removed with the folders 
 TEST_CASE("an output name starting with .vehs- is refused", "[io][outputs]") {
   CHECK_THROWS_WITH(vehs::check_output_path("out/.vehs-commit"), Catch::Contains("reserved"));
 }
+
+TEST_CASE("a folder reached through a link holds this run's staging folder, not a stale one",
+          "[io][outputs][journal]") {
+  const fs::path d = fresh("linked");
+  fs::create_directories(d / "out");
+  fs::create_directory_symlink(d / "out", d / "link");
+  {
+    vehs::OutputTransaction t;
+    vehs::write_file_atomically((d / "out" / "a.json").string(), "a");
+    vehs::write_file_atomically((d / "link" / "b.json").string(), "b");
+    t.commit();
+  }
+  CHECK(slurp(d / "out" / "a.json") == "a");
+  CHECK(slurp(d / "out" / "b.json") == "b");
+  CHECK(no_staging_left(d));
+  fs::remove_all(d);
+}
