@@ -14,7 +14,8 @@ folder gets
   run 4  a normal run: status 0, no .vehs-staging.*, .vehs-tmp.* or lock file left.
 History trial: 4 processes x 2 diagnose-vehs runs appending to one history file keep 8 entries.
 Full-disk trial: identify-vehs and fpk-stationary with figures under RLIMIT_FSIZE (SIGXFSZ
-ignored, so writes fail with EFBIG): status 1, one stderr line, nothing left in the folder.
+ignored, so writes fail with EFBIG): status 1, one stderr line naming EFBIG's "File too large",
+nothing left in the folder.
 
 Usage: run_commit_safety.py BIN_DIR [--only kill|history|disk] [--keep DIR]
 """
@@ -248,6 +249,8 @@ def disk_trial(bindir, fixtures, workdir):
                 problems.append(f"{where}: status {status}, expected 1")
             if len(lines) != 1:
                 problems.append(f"{where}: {len(lines)} stderr lines: {lines[:3]}")
+            elif "File too large" not in lines[0]:  # the write's own error (EFBIG), not a guess
+                problems.append(f"{where}: the error does not say why: {lines[0]}")
             if after != before:
                 problems.append(f"{where}: the folder changed: {sorted(set(after) ^ set(before))}")
     return problems
