@@ -267,7 +267,7 @@ void OutputTransaction::lock_output(const std::string& destination) {
     make_directories(folder_of(destination));
   }
   for (;;) {  // the lock file is removed by its holder: lock the file the name still names
-    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0600);
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666);  // (other users too)
     if (fd < 0) throw Error(path + ": cannot create the lock file (" + errno_text() + ")");
     while (::flock(fd, LOCK_EX) != 0)
       if (errno != EINTR) {
