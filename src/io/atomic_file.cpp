@@ -22,6 +22,7 @@ void write_content(const std::string& file, const std::string& path,
                    const std::function<void(std::ostream&)>& writer) {
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
   if (!out) throw Error(path + ": cannot write (" + std::strerror(errno) + ")");
+  errno = 0;  // the failing write's error, when the stream fails
   try {
     writer(out);
   } catch (...) {
@@ -31,9 +32,10 @@ void write_content(const std::string& file, const std::string& path,
   }
   out.flush();
   if (!out) {
+    const int err = errno;  // ENOSPC, EFBIG (a file size limit), EDQUOT, EIO
     out.close();
     std::remove(file.c_str());
-    throw Error(path + ": write failed (disk full?)");
+    throw Error(path + ": write failed (" + (err ? std::string(std::strerror(err)) : std::string("disk full?")) + ")");
   }
 }
 

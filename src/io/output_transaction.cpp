@@ -3,16 +3,20 @@
 #include <climits>
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
 
+#include "commit_journal.hpp"
 #include "vehs/core/error.hpp"
 
 namespace vehs {
@@ -116,6 +120,8 @@ void check_output_path(const std::string& path) {
   const std::string name = p.filename().string();
   if (name.empty() || name == "." || name == "..")
     throw Error(path + ": an output must name a file, not a folder");
+  if (name.rfind(".vehs-", 0) == 0)
+    throw Error(path + ": names starting with .vehs- are reserved for the tools' staging and temporary files");
   if (name.size() > NAME_MAX)
     throw Error(path + ": file name of " + std::to_string(name.size()) + " bytes is longer than the " +
                 std::to_string(NAME_MAX) + " the file system allows");
@@ -144,6 +150,23 @@ std::string folder_of(const std::string& path) {
   const fs::path parent = fs::path(path).parent_path();
   return parent.empty() ? std::string(".") : parent.string();
 }
+
+std::string absolute_of(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
+
+// The test-only fault hook of commit(): VEHS_TEST_KILL_AT_RENAME=k kills the process with SIGKILL
+// just before the k-th rename of the commit.
+long g_renames = 0, g_kill_at = 0;
+
+void start_counting_renames() {
+  const char* v = std::getenv("VEHS_TEST_KILL_AT_RENAME");
+  g_kill_at = v ? std::atol(v) : 0L;
+  g_renames = 0;
+}
+
+int counted_rename(const std::string& from, const std::string& to) {
+  if (++g_renames == g_kill_at) ::raise(SIGKILL);
+  return ::rename(from.c_str(), to.c_str());
+}
 }  // namespace
 
 OutputTransaction::OutputTransaction() {
@@ -169,6 +192,7 @@ void OutputTransaction::protect(const std::string& path, const std::string& what
 
 void OutputTransaction::check_output(const std::string& path) const {
   check_output_path(path);
+  recover(folder_of(path));
   const std::string canonical = canonical_of(path);
   struct stat st {};
   const bool exists = ::stat(path.c_str(), &st) == 0;
@@ -201,19 +225,76 @@ void OutputTransaction::make_directories(const std::string& dir) {
   }
 }
 
+void OutputTransaction::recover(const std::string& dir) const {
+  const std::string key = absolute_of(dir);
+  if (std::find(recovered_.begin(), recovered_.end(), key) != recovered_.end()) return;
+  journal::recover_stale_staging(key, staging_abs_, g_program);
+  recovered_.push_back(key);
+}
+
+void recover_stale_outputs(const std::string& dir) {
+  std::lock_guard<std::mutex> lock(g_mutex);
+  if (g_active)
+    g_active->recover(dir);
+  else
+    journal::recover_stale_staging(dir, {}, g_program);
+}
+
 std::string OutputTransaction::staging_directory(const std::string& dir) {
-  const std::string key = fs::absolute(dir).lexically_normal().string();
+  const std::string key = absolute_of(dir);
   for (std::size_t i = 0; i < staging_for_.size(); ++i)
     if (staging_for_[i] == key) return staging_dirs_[i].first;
+  recover(dir);
   make_directories(dir);
-  const std::string sdir = (fs::path(dir) / (".vehs-staging." + std::to_string(::getpid()))).string();
+  const std::string sdir = (fs::path(dir) / (journal::kStagingPrefix + std::to_string(::getpid()))).string();
   if (::mkdir(sdir.c_str(), 0700) != 0 && errno != EEXIST) {
     const std::string why = errno == EACCES || errno == EROFS ? "the folder is not writable" : errno_text();
     throw Error(dir + ": cannot write outputs here (" + why + ")");
   }
   staging_dirs_.emplace_back(sdir, register_temporary(sdir, true));
   staging_for_.push_back(key);
+  staging_abs_.push_back(absolute_of(sdir));
+  // the folders this run created on the way: a later run removes them with a staging folder it
+  // rolls back (when they are empty)
+  std::vector<std::string> created;
+  for (const auto& d : created_dirs_)
+    if (key == d.first || key.rfind(d.first + "/", 0) == 0) created.push_back(d.first);
+  if (!created.empty()) {
+    const std::string list = (fs::path(sdir) / journal::kCreated).string();
+    records_.emplace_back(list, register_temporary(list, false));
+    journal::write_synced(list, journal::created_text(created));
+  }
   return sdir;
+}
+
+void OutputTransaction::lock_output(const std::string& destination) {
+  const std::string path = destination + ".lock";
+  {
+    std::lock_guard<std::mutex> lock(g_mutex);
+    for (const auto& f : lock_files_)
+      if (f.first == path) return;  // held already (a second flock of this process would wait for ever)
+    recover(folder_of(destination));
+    make_directories(folder_of(destination));
+  }
+  for (;;) {  // the lock file is removed by its holder: lock the file the name still names
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666);  // (other users too)
+    if (fd < 0) throw Error(path + ": cannot create the lock file (" + errno_text() + ")");
+    while (::flock(fd, LOCK_EX) != 0)
+      if (errno != EINTR) {
+        const std::string why = errno_text();
+        ::close(fd);
+        throw Error(path + ": cannot lock (" + why + ")");
+      }
+    struct stat held {}, named {};
+    if (::fstat(fd, &held) == 0 && ::lstat(path.c_str(), &named) == 0 && held.st_dev == named.st_dev &&
+        held.st_ino == named.st_ino) {
+      std::lock_guard<std::mutex> lock(g_mutex);
+      lock_fds_.push_back(fd);
+      lock_files_.emplace_back(path, register_temporary(path, false));
+      return;
+    }
+    ::close(fd);
+  }
 }
 
 std::string OutputTransaction::stage(const std::string& destination) {
@@ -258,13 +339,74 @@ void OutputTransaction::commit() {
           throw Error(s.destination + ": this output is the " + in.what + " " + in.path + " (it would be overwritten)");
   }
   g_committing.store(true);
+  start_counting_renames();
+  try {
+    if (!staged_.empty()) write_journal();
+  } catch (...) {
+    g_committing.store(false);
+    throw;  // nothing moved: the destructor removes the staged files
+  }
+  move_into_place();
+  finish();
+  committed_ = true;
+  g_committing.store(false);
+  if (const int sig = g_deferred_signal.load())
+    exit_on_signal(sig, ": interrupted after all outputs were written\n");
+}
+
+// The commit point: pointers in every staging folder but the first, then the master journal in
+// the first (temporary, fsync, rename). The staged files are flushed to disk before it.
+void OutputTransaction::write_journal() {
+  std::vector<journal::Move> moves;
+  for (const auto& s : staged_) {
+    journal::sync_path(s.staged);
+    moves.push_back({absolute_of(s.staged), absolute_of(s.destination)});
+  }
+  const std::string master = staging_abs_.front();
+  const std::string path = (fs::path(master) / journal::kJournal).string();
+  for (std::size_t i = 1; i < staging_abs_.size(); ++i) {
+    const std::string pointer = (fs::path(staging_abs_[i]) / journal::kPointer).string();
+    records_.emplace_back(pointer, register_temporary(pointer, false));
+    journal::write_synced(pointer, journal::pointer_text(path));
+  }
+  const std::string tmp = path + ".tmp";
+  records_.emplace_back(tmp, register_temporary(tmp, false));
+  journal::write_synced(tmp, journal::journal_text(moves, staging_abs_));
+  if (counted_rename(tmp, path) != 0)
+    throw Error(path + ": cannot write the commit journal (" + errno_text() + ")");
+  unregister_temporary(records_.back().second);
+  records_.back() = {path, register_temporary(path, false)};  // the last record: removed first
+  journal::sync_path(master);
+}
+
+void OutputTransaction::move_into_place() {
   for (auto& s : staged_) {
-    if (::rename(s.staged.c_str(), s.destination.c_str()) != 0) {
+    if (counted_rename(s.staged, s.destination) != 0) {
+      // past the commit point: the journal and the files not yet moved stay for the next run
+      const std::string why = errno_text(), where = fs::path(s.staged).parent_path().string();
+      for (const auto& t : staged_) unregister_temporary(t.slot);
+      for (const auto& r : records_) unregister_temporary(r.second);
+      for (const auto& d : staging_dirs_) unregister_temporary(d.second);
+      for (const auto& d : created_dirs_) unregister_temporary(d.second);
+      staged_.clear();
+      records_.clear();
+      staging_dirs_.clear();
+      created_dirs_.clear();
+      release_locks();
+      committed_ = true;
       g_committing.store(false);
-      throw Error(s.destination + ": cannot move the finished output into place (" + errno_text() + ")");
+      throw Error(s.destination + ": cannot move the finished output into place (" + why +
+                  "); the run's other outputs stay in " + where + " until a later run writing there completes them");
     }
     unregister_temporary(s.slot);
     s.slot = -1;
+  }
+}
+
+void OutputTransaction::finish() noexcept {
+  for (auto it = records_.rbegin(); it != records_.rend(); ++it) {  // the journal first: the commit is over
+    ::unlink(it->first.c_str());
+    unregister_temporary(it->second);
   }
   for (const auto& d : staging_dirs_) {
     ::rmdir(d.first.c_str());
@@ -272,16 +414,29 @@ void OutputTransaction::commit() {
   }
   for (const auto& d : created_dirs_) unregister_temporary(d.second);
   staged_.clear();
+  records_.clear();
   staging_dirs_.clear();
   staging_for_.clear();
+  staging_abs_.clear();
   created_dirs_.clear();
-  committed_ = true;
-  g_committing.store(false);
-  if (const int sig = g_deferred_signal.load())
-    exit_on_signal(sig, ": interrupted after all outputs were written\n");
+  release_locks();
+}
+
+void OutputTransaction::release_locks() noexcept {
+  for (const auto& f : lock_files_) {  // removed while held: a waiting run then locks a new file
+    ::unlink(f.first.c_str());
+    unregister_temporary(f.second);
+  }
+  for (const int fd : lock_fds_) ::close(fd);
+  lock_files_.clear();
+  lock_fds_.clear();
 }
 
 void OutputTransaction::rollback() noexcept {
+  for (auto it = records_.rbegin(); it != records_.rend(); ++it) {  // a journal first: nothing is committed
+    ::unlink(it->first.c_str());
+    unregister_temporary(it->second);
+  }
   for (const auto& s : staged_) {
     if (s.slot >= 0) {
       ::unlink(s.staged.c_str());
@@ -292,13 +447,16 @@ void OutputTransaction::rollback() noexcept {
     ::rmdir(d.first.c_str());
     unregister_temporary(d.second);
   }
+  release_locks();  // (a lock file may be in a folder this run created)
   for (auto it = created_dirs_.rbegin(); it != created_dirs_.rend(); ++it) {
     ::rmdir(it->first.c_str());
     unregister_temporary(it->second);
   }
   staged_.clear();
+  records_.clear();
   staging_dirs_.clear();
   staging_for_.clear();
+  staging_abs_.clear();
   created_dirs_.clear();
   if (const int sig = g_deferred_signal.load()) exit_on_signal(sig, ": interrupted; no outputs written\n");
 }

@@ -58,7 +58,7 @@ const ConfigSchema& diagnose_schema() {
           {"output", "path", "JSON summary to write (atomically): verdict, score, components, suspects and details.", ""},
           {"report", "path", "Report folder (index.html, figures as SVG with their CSV data and gnuplot scripts, summary.json, history).",
            "<output without .json>_report"},
-          {"history", "path", "Model history file appended by every run (the report plots the score over model versions).",
+          {"history", "path", "Model history file appended by every run (the report plots the score over model versions); runs sharing it take turns (lock file <history>.lock while one appends).",
            "<report>/history.json"},
           {"label", "string", "Name of this model version in the history and the report.", "the model file's name"},
           {"seed", "integer", "Seed of the twins and refits (results are reproducible and independent of the thread count).", "1"},

@@ -12,6 +12,7 @@
 #include "vehs/io/model_file.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/io/json_file.hpp"
+#include "vehs/io/output_transaction.hpp"
 
 namespace vehs::tools {
 
@@ -103,6 +104,8 @@ nlohmann::ordered_json history_entry(const Model& model, const std::string& mode
 
 std::vector<nlohmann::ordered_json> read_history(const std::string& path) {
   std::vector<nlohmann::ordered_json> out;
+  const std::string folder = std::filesystem::path(path).parent_path().string();
+  recover_stale_outputs(folder.empty() ? "." : folder);  // a killed run's history is completed or removed first
   if (!std::filesystem::exists(path)) return out;
   const std::string text = read_text_file(path, "history file");  // read, not protected: it is also an output
   nlohmann::ordered_json j;
@@ -124,6 +127,8 @@ std::vector<nlohmann::ordered_json> read_history(const std::string& path) {
 }
 
 std::vector<nlohmann::ordered_json> append_history(const std::string& path, nlohmann::ordered_json entry) {
+  // another run appending to the same file waits here until this run's outputs are committed
+  if (OutputTransaction* t = OutputTransaction::active()) t->lock_output(path);
   auto entries = read_history(path);
   int version = 1;
   for (const auto& e : entries)

@@ -29,12 +29,15 @@ nlohmann::ordered_json history_entry(const Model& model, const std::string& mode
                                      const Dataset& data, const diagnose::Result& result,
                                      const nlohmann::ordered_json& model_sections = nlohmann::ordered_json::object());
 
-/// Reads the history file (empty when it does not exist); throws vehs::Error naming the file
-/// when it exists but is not a history file.
+/// Reads the history file (empty when it does not exist), after repairing its folder's stale
+/// staging folders (recover_stale_outputs); throws vehs::Error naming the file when it exists but
+/// is not a history file.
 std::vector<nlohmann::ordered_json> read_history(const std::string& path);
 
 /// Appends `entry` (numbering it as version n + 1 of its data fingerprint) and writes the file
-/// atomically. Returns all entries.
+/// atomically. Inside an output transaction the file is locked (OutputTransaction::lock_output,
+/// `<path>.lock`) from the read until the run's commit: concurrent runs keep every entry.
+/// Returns all entries.
 std::vector<nlohmann::ordered_json> append_history(const std::string& path, nlohmann::ordered_json entry);
 
 }  // namespace vehs::tools

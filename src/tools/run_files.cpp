@@ -39,6 +39,7 @@ struct Walk {
     if (path.empty()) throw Error(config.file() + ": '" + where + "' is empty");
     if (::stat(path.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
       throw Error(config.file() + ": '" + where + "' must be a folder, but " + path + " is a file");
+    recover_stale_outputs(path);  // before the run reads or writes anything there
   }
 
   void output(const std::string& where, const std::string& path) {

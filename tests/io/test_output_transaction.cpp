@@ -153,3 +153,96 @@ TEST_CASE("without a transaction a write still refuses links and devices and lea
   CHECK(listing(d) == std::set<std::string>{"null.json", std::string(250, 'n')});
   fs::remove_all(d);
 }
+
+namespace {
+
+// A child that replaces a.json and sub/b.json in one transaction and is killed at rename k.
+int commit_killed_at(const fs::path& d, int k) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::setenv("VEHS_TEST_KILL_AT_RENAME", std::to_string(k).c_str(), 1);
+    vehs::OutputTransaction t;
+    vehs::write_file_atomically((d / "a.json").string(), "new a");
+    vehs::write_file_atomically((d / "sub" / "b.json").string(), "new b");
+    t.commit();
+    ::_exit(0);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return status;
+}
+
+bool no_staging_left(const fs::path& d) {
+  for (const auto& e : fs::recursive_directory_iterator(d))
+    if (e.path().filename().string().rfind(".vehs-", 0) == 0) return false;
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("a commit killed at any rename is completed or undone by the next run in its folders",
+          "[io][outputs][journal]") {
+  for (int k = 1; k <= 4; ++k) {
+    CAPTURE(k);
+    const fs::path d = fresh("journal" + std::to_string(k));
+    fs::create_directories(d / "sub");
+    std::ofstream(d / "a.json") << "old a";
+    std::ofstream(d / "sub" / "b.json") << "old b";
+    const int status = commit_killed_at(d, k);
+    if (k <= 3) {  // the journal's rename, then the two outputs'
+      REQUIRE(WIFSIGNALED(status));
+      CHECK(WTERMSIG(status) == SIGKILL);
+      CHECK_FALSE(no_staging_left(d));
+    } else {
+      CHECK(WIFEXITED(status));
+    }
+    vehs::recover_stale_outputs((d / "sub").string());  // either folder repairs the whole commit
+    const std::string a = slurp(d / "a.json"), b = slurp(d / "sub" / "b.json");
+    CHECK(((a == "old a" && b == "old b") || (a == "new a" && b == "new b")));
+    CHECK((k == 1 ? a == "old a" : a == "new a"));  // past the journal's rename: completed
+    vehs::recover_stale_outputs(d.string());
+    CHECK(no_staging_left(d));
+    fs::remove_all(d);
+  }
+}
+
+TEST_CASE("a stale staging folder without a journal is removed with the folders its run created",
+          "[io][outputs][journal]") {
+  const fs::path d = fresh("stale_created");
+  const pid_t pid = ::fork();
+  if (pid == 0) {  // stages into new folders, then dies before committing
+    vehs::OutputTransaction t;
+    vehs::write_file_atomically((d / "figs" / "deep" / "f.csv").string(), "f");
+    ::raise(SIGKILL);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  REQUIRE(fs::exists(d / "figs" / "deep"));
+  {
+    vehs::OutputTransaction t;  // a later run checking an output there repairs the folder first
+    t.check_output((d / "figs" / "deep" / "g.csv").string());
+  }
+  CHECK(listing(d).empty());
+  fs::remove_all(d);
+}
+
+TEST_CASE("an output name starting with .vehs- is refused", "[io][outputs]") {
+  CHECK_THROWS_WITH(vehs::check_output_path("out/.vehs-commit"), Catch::Contains("reserved"));
+}
+
+TEST_CASE("a folder reached through a link holds this run's staging folder, not a stale one",
+          "[io][outputs][journal]") {
+  const fs::path d = fresh("linked");
+  fs::create_directories(d / "out");
+  fs::create_directory_symlink(d / "out", d / "link");
+  {
+    vehs::OutputTransaction t;
+    vehs::write_file_atomically((d / "out" / "a.json").string(), "a");
+    vehs::write_file_atomically((d / "link" / "b.json").string(), "b");
+    t.commit();
+  }
+  CHECK(slurp(d / "out" / "a.json") == "a");
+  CHECK(slurp(d / "out" / "b.json") == "b");
+  CHECK(no_staging_left(d));
+  fs::remove_all(d);
+}
