@@ -109,7 +109,7 @@ ReadOptions read_options(const Config& c, bool need_u) {
 }
 
 LoadedData load_measurements(const Config& c, bool need_u, const AppOptions& app) {
-  const auto files = c.string_list("data");
+  const auto files = c.path_list("data");
   if (files.empty()) c.fail("data", "lists no file");
   LoadedData l;
   l.data = checked_measurements(c, read_measurements(files, read_options(c, need_u), &l.summary));
