@@ -29,6 +29,28 @@ double robust_sd(const double* x, std::size_t n) {
   return 1.4826 * median(r);
 }
 
+/// The |r| that makes sample i of x[0, n) an isolated glitch (the rule in the header; r_i, or at
+/// a first or last sample its one neighbour's), 0 when it is none; `limit` is threshold·σ.
+double glitch_size(const double* x, std::size_t n, std::size_t i, double limit) {
+  const auto len = static_cast<std::ptrdiff_t>(n), k = static_cast<std::ptrdiff_t>(i);
+  auto has = [&](std::ptrdiff_t j) { return j >= 1 && j + 1 < len; };
+  auto r = [&](std::ptrdiff_t j) { return half_second_difference(x, static_cast<std::size_t>(j)); };
+  // r_j is absent (beyond the record's ends) or within `tol` of `target`
+  auto near = [&](std::ptrdiff_t j, double target, double tol) { return !has(j) || std::abs(r(j) - target) < tol; };
+  if (has(k)) {  // one displaced sample g: r_i = g, r_{i±1} = -g/2, r_{i±2} = 0 (those that exist)
+    const double a = r(k), q = 0.25 * std::abs(a);
+    if (!(std::abs(a) > limit)) return 0.0;
+    const bool signature = near(k - 1, -0.5 * a, q) && near(k + 1, -0.5 * a, q) && near(k - 2, 0.0, q) &&
+                           near(k + 2, 0.0, q);
+    return signature ? std::abs(a) : 0.0;
+  }
+  // a first or last sample displaced by g: its one neighbour r_b = -g/2, the next two r = 0
+  const std::ptrdiff_t s = k == 0 ? 1 : -1, b = k + s;
+  const double a = r(b), q = 0.25 * std::abs(a);
+  if (!(std::abs(a) > limit)) return 0.0;
+  return near(b + s, 0.0, q) && near(b + 2 * s, 0.0, q) ? std::abs(a) : 0.0;
+}
+
 }  // namespace
 
 std::vector<Glitch> find_glitches(const Dataset& data, double threshold) {
@@ -44,16 +66,9 @@ std::vector<Glitch> find_glitches(const Dataset& data, double threshold) {
     const double* x = data.x_of(rec);
     const double sd = std::max(robust_sd(x, rec.size), floor_sd);
     if (!(sd > 0.0) || !std::isfinite(sd)) continue;  // a constant or non-finite record: other checks
-    for (std::size_t i = 3; i + 3 < rec.size; ++i) {
-      const double r = half_second_difference(x, i);
-      if (!(std::abs(r) > threshold * sd)) continue;
-      const double quarter = 0.25 * std::abs(r);
-      const bool neighbours = std::abs(half_second_difference(x, i - 1) + 0.5 * r) < quarter &&
-                              std::abs(half_second_difference(x, i + 1) + 0.5 * r) < quarter;
-      const bool isolated = std::abs(half_second_difference(x, i - 2)) < quarter &&
-                            std::abs(half_second_difference(x, i + 2)) < quarter;
-      if (neighbours && isolated) out.push_back({k, i, rec.first_line + i, x[i], std::abs(r) / sd});
-    }
+    for (std::size_t i = 0; i < rec.size; ++i)
+      if (const double size = glitch_size(x, rec.size, i, threshold * sd); size > 0.0)
+        out.push_back({k, i, rec.first_line + i, x[i], size / sd});
   }
   return out;
 }

@@ -11,6 +11,7 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/io/output_transaction.hpp"
+#include "vehs/io/path_text.hpp"
 
 namespace vehs {
 
@@ -43,6 +44,7 @@ void write_content(const std::string& file, const std::string& path,
 
 void write_file_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& writer) {
+  check_path_text(path, "output file");
   if (OutputTransaction* t = OutputTransaction::active()) {  // committed with the run's other outputs
     write_content(t->stage(path), path, writer);
     return;

@@ -98,12 +98,9 @@ class CsvParser {
                     " fields, the header " + std::to_string(ncols_) + " (a shifted or merged row?)");
     Row r;
     r.line = line_no_;
-    if (idx_.traj >= 0) {
-      const double v = value(idx_.traj, o_.traj_column);
-      if (!(v == std::floor(v)) || std::abs(v) > 9e15)
-        throw Error(path_ + ": line " + std::to_string(line_no_) + ": record id '" +
-                    std::string(trim(fields_[static_cast<std::size_t>(idx_.traj)])) + "' is not an integer");
-      r.id = static_cast<long long>(v);
+    if (idx_.traj >= 0) {  // (RecordBuilder checks it)
+      r.id = value(idx_.traj, o_.traj_column);
+      r.id_text = trim(fields_[static_cast<std::size_t>(idx_.traj)]);
     }
     if (idx_.t >= 0) r.t = time_value();
     r.x = value(idx_.x, o_.x_column);

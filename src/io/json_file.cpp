@@ -12,6 +12,7 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/io/output_transaction.hpp"
+#include "vehs/io/path_text.hpp"
 
 namespace vehs {
 
@@ -122,6 +123,7 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& where
 }
 
 std::string read_text_file(const std::string& path, const std::string& what) {
+  check_path_text(path, what);
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0)
     throw Error(path + ": cannot open " + what + " (" + std::strerror(errno) + ")");

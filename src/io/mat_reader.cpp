@@ -1,6 +1,7 @@
 // MATLAB .mat files (v4, v5, v7.3) through libmatio: either one numeric vector per column, named
 // like the CSV columns (t, x, u, traj), or one 2-D matrix (ReadOptions::mat_variable) whose
 // columns ReadOptions::columns names. MATLAB loads such files whole, and so does this reader.
+#include <dlfcn.h>
 #include <matio.h>
 
 #include <cstdint>
@@ -27,6 +28,56 @@ struct VarFree {
 };
 using MatFile = std::unique_ptr<mat_t, MatCloser>;
 using MatVar = std::unique_ptr<matvar_t, VarFree>;
+
+/// While in scope, HDF5's printing of its error stack (a corrupt v7.3 file: 14 lines of
+/// "HDF5-DIAG" on stderr) is replaced on this thread by a flag, which the reader turns into one
+/// line. libmatio reads v7.3 files through HDF5 when built with it; HDF5's H5Eget_auto2 and
+/// H5Eset_auto2 are looked up at run time among libmatio's own dependencies (vehs does not link
+/// HDF5), so without HDF5 nothing happens.
+class Hdf5ErrorCapture {
+ public:
+  Hdf5ErrorCapture() {
+    const Api& api = hdf5();
+    if (!api.set || !api.get || api.get(kDefaultStack, &old_func_, &old_data_) < 0) return;
+    active_ = api.set(kDefaultStack, &note, &failed_) >= 0;
+  }
+  ~Hdf5ErrorCapture() {
+    if (active_) hdf5().set(kDefaultStack, old_func_, old_data_);
+  }
+  Hdf5ErrorCapture(const Hdf5ErrorCapture&) = delete;
+  Hdf5ErrorCapture& operator=(const Hdf5ErrorCapture&) = delete;
+  /// HDF5 reported an error since the capture began.
+  bool failed() const { return failed_; }
+
+ private:
+  using Hid = std::int64_t;                   // hid_t (HDF5 >= 1.10)
+  using AutoFunc = int (*)(Hid, void*);       // H5E_auto2_t
+  static constexpr Hid kDefaultStack = 0;     // H5E_DEFAULT
+  struct Api {
+    int (*get)(Hid, AutoFunc*, void**) = nullptr;
+    int (*set)(Hid, AutoFunc, void*) = nullptr;
+  };
+  static int note(Hid, void* failed) {
+    *static_cast<bool*>(failed) = true;
+    return 0;
+  }
+  static const Api& hdf5() {
+    static const Api api = [] {
+      Api a;
+      Dl_info info{};
+      if (!::dladdr(reinterpret_cast<void*>(&Mat_Open), &info) || !info.dli_fname) return a;
+      void* matio = ::dlopen(info.dli_fname, RTLD_LAZY | RTLD_NOLOAD);  // searched with its dependencies
+      if (!matio) return a;
+      a.get = reinterpret_cast<decltype(a.get)>(::dlsym(matio, "H5Eget_auto2"));
+      a.set = reinterpret_cast<decltype(a.set)>(::dlsym(matio, "H5Eset_auto2"));
+      return a;
+    }();
+    return api;
+  }
+  AutoFunc old_func_ = nullptr;
+  void* old_data_ = nullptr;
+  bool active_ = false, failed_ = false;
+};
 
 template <class T>
 std::vector<double> convert(const void* data, std::size_t n) {
@@ -122,9 +173,15 @@ Table vector_table(mat_t* mat, const ReadOptions& o, const std::string& path) {
 }  // namespace
 
 Dataset read_mat(const std::string& path, const ReadOptions& o, ReadSummary& summary) {
+  const Hdf5ErrorCapture hdf5_errors;  // (before the file: it also covers the close)
   MatFile mat(Mat_Open(path.c_str(), MAT_ACC_RDONLY));
+  const auto corrupt = [&] {
+    return Error(path + ": cannot read as a MATLAB v7.3 .mat file: HDF5 finds it corrupt or truncated");
+  };
+  if (hdf5_errors.failed()) throw corrupt();  // (libmatio returns a file whose variables cannot be read)
   if (!mat) throw Error(path + ": cannot open as a MATLAB .mat file");
   const Table t = o.mat_variable.empty() ? vector_table(mat.get(), o, path) : matrix_table(mat.get(), o, path);
+  if (hdf5_errors.failed()) throw corrupt();
   const ColumnIndex idx = index_columns(t.names, o, path, "variable");
   auto col = [&](int i) -> const std::vector<double>* { return i < 0 ? nullptr : &t.columns[static_cast<std::size_t>(i)]; };
   const auto *x = col(idx.x), *tt = col(idx.t), *traj = col(idx.traj), *u = col(idx.u), *y = col(idx.y);
@@ -137,7 +194,7 @@ Dataset read_mat(const std::string& path, const ReadOptions& o, ReadSummary& sum
     if (tt) r.t = (*tt)[i];
     if (u) r.u = (*u)[i];
     if (y) r.y = (*y)[i];
-    if (traj) r.id = static_cast<long long>((*traj)[i]);
+    if (traj) r.id = (*traj)[i];  // (RecordBuilder checks it)
     rb.row(r);
   }
   rb.finish();

@@ -1,6 +1,9 @@
 #include "vehs/io/measurements.hpp"
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +13,7 @@
 #include <optional>
 
 #include "vehs/io/atomic_file.hpp"
+#include "vehs/io/path_text.hpp"
 #include "readers.hpp"
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
@@ -166,20 +170,40 @@ const char* unread_format(const std::string& path) {
   return nullptr;
 }
 
+/// Refuses a path that is not a regular file before anything opens it: opening a FIFO waits for
+/// a writer for ever, a device never ends.
+void require_regular_file(const std::string& path) {
+  check_path_text(path, "measurement file");
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw Error(path + ": cannot open measurement file (" + std::strerror(errno) + ")");
+  if (S_ISREG(st.st_mode)) return;
+  const char* kind = S_ISDIR(st.st_mode)    ? "a directory"
+                     : S_ISFIFO(st.st_mode) ? "a FIFO (named pipe)"
+                     : S_ISSOCK(st.st_mode) ? "a socket"
+                     : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
+                                                                   : "not a regular file";
+  throw Error(path + ": is " + kind + "; measurement files must be regular files");
+}
+
+Dataset read_file(const std::string& path, const ReadOptions& options, ReadSummary& s) {
+  if (ends_with(path, ".mat")) return io_detail::read_mat(path, options, s);
+  if (const char* other = unread_format(path))
+    throw Error(path + ": " + other + " files are not read (CSV text, NumPy .npy and MATLAB .mat are)");
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw Error(path + ": cannot open measurement file");
+  return read_format(file, path, options, s);
+}
+
 Dataset read_one(const std::string& path, std::istream* in, const ReadOptions& options, ReadSummary& summary) {
   if (auto why = options.invalid_reason(); !why.empty()) throw Error(path + ": " + why);
   ReadSummary s;
   Dataset d;
   if (in) {
     d = read_format(*in, path, options, s);
-  } else if (ends_with(path, ".mat")) {
-    d = io_detail::read_mat(path, options, s);
-  } else if (const char* other = unread_format(path)) {
-    throw Error(path + ": " + other + " files are not read (CSV text, NumPy .npy and MATLAB .mat are)");
   } else {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) throw Error(path + ": cannot open measurement file");
-    d = read_format(file, path, options, s);
+    require_regular_file(path);
+    d = read_file(path, options, s);
   }
   add_warnings(path, options, s);
   summary.merge(s);

@@ -6,6 +6,7 @@
 #include "vehs/core/error.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/io/json_file.hpp"
+#include "vehs/io/path_text.hpp"
 
 namespace vehs {
 
@@ -380,7 +381,10 @@ ModelFile read_model_file(const std::string& path) {
 Model load_model_file(const std::string& path) { return read_model_file(path).model; }
 
 ModelFile model_from_config_value(const nlohmann::json& value, const std::string& where) {
-  if (value.is_string()) return read_model_file(value.get<std::string>());
+  if (value.is_string()) {
+    check_path_text(value.get<std::string>(), where);
+    return read_model_file(value.get<std::string>());
+  }
   if (!value.is_object()) throw Error(where + " must be a model object or the path of a model file");
   ModelFile f;
   f.model = model_from_json(value, where, &f.sections);

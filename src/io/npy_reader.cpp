@@ -111,6 +111,9 @@ NpyLayout parse_header(const std::string& header, const std::string& path, const
     const auto q1 = q[0], q2 = q[1], q3 = q[2], q4 = q[3];
     NpyField f;
     f.name = header.substr(q1 + 1, q2 - q1 - 1);
+    if (const auto after = header.find_first_not_of(", ", q4 + 1); after < close)  // ('x', '<f8', (2,))
+      throw Error(path + ": field '" + f.name + "' is a sub-array of shape " + header.substr(after, close - after + 1) +
+                  " (each field must hold one number per row: one field per column, or a 2-D array with 'columns')");
     parse_type(header.substr(q3 + 1, q4 - q3 - 1), f, path);
     f.offset = offset;
     offset += static_cast<std::size_t>(f.size);
@@ -205,13 +208,7 @@ Dataset read_npy(std::istream& in, const std::string& path, const ReadOptions& o
       if (ft) r.t = field_value(p, *ft);
       if (fu) r.u = field_value(p, *fu);
       if (fy) r.y = field_value(p, *fy);
-      if (ftraj) {
-        const double id = field_value(p, *ftraj);
-        if (id != std::floor(id) || !(std::abs(id) < 9e15))  // (a larger id would overflow the conversion)
-          throw Error(path + ": row " + std::to_string(row + 1) + ": record id " + std::to_string(id) +
-                      " is not an integer below 9e15");
-        r.id = static_cast<long long>(id);
-      }
+      if (ftraj) r.id = field_value(p, *ftraj);  // (RecordBuilder checks it)
       rb.row(r);
     }
   }

@@ -1,6 +1,7 @@
 #include "record_builder.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 
 #include "vehs/core/detail/format.hpp"
@@ -11,6 +12,10 @@ namespace vehs::io_detail {
 namespace {
 constexpr double kGapSteps = 1.5;  ///< a step longer than this many intervals is a gap
 std::string fmt(double v) { return vehs::detail::format_number(v, 8); }
+std::string shortest(double v) {  // the digits that read back as v (0.2, 9007199254740994)
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+}
 }
 
 RecordBuilder::RecordBuilder(Dataset& d, std::string source, const ReadOptions& o, Columns c,
@@ -23,20 +28,29 @@ std::string RecordBuilder::where(std::size_t line) const {
   return s;
 }
 
-bool RecordBuilder::id_changed(const Row& r) const { return c_.traj && any_id_ && r.id != last_id_; }
+long long RecordBuilder::record_id(const Row& r) const {
+  if (r.id == std::floor(r.id) && std::abs(r.id) <= kMaxRecordId) return static_cast<long long>(r.id);
+  const std::string at = source_ + ": " + line_word_ + " " + std::to_string(r.line) + ": record id";
+  if (std::isnan(r.id)) throw Error(at + " is empty or not a number");
+  const std::string text = " " + (r.id_text.empty() ? shortest(r.id) : "'" + std::string(r.id_text) + "'");
+  if (r.id != std::floor(r.id)) throw Error(at + text + " is not an integer");
+  throw Error(at + text + " is beyond the largest record id, 2^53 - 1 = 9007199254740991 (ids are read as "
+              "double-precision numbers, exact only up to there)");
+}
 
 void RecordBuilder::row(const Row& r) {
-  if (id_changed(r)) {
+  const long long id = c_.traj ? record_id(r) : 0;
+  if (c_.traj && any_id_ && id != last_id_) {
     prev_off_step_ = 0.0;
     close(false);
     in_missing_run_ = false;
     after_split_ = false;
   }
-  if (c_.traj && (!any_id_ || r.id != last_id_)) {
-    if (!seen_.insert(r.id).second)
+  if (c_.traj && (!any_id_ || id != last_id_)) {
+    if (!seen_.insert(id).second)
       throw Error(source_ + ": " + line_word_ + " " + std::to_string(r.line) + ": record traj=" +
-                  std::to_string(r.id) + " appears again after other records (rows of one record must be contiguous)");
-    last_id_ = r.id;
+                  std::to_string(id) + " appears again after other records (rows of one record must be contiguous)");
+    last_id_ = id;
     any_id_ = true;
   }
   if (!std::isfinite(r.x)) return missing(r, o_.x_column.c_str());
@@ -67,7 +81,7 @@ void RecordBuilder::row(const Row& r) {
       close(true);
     }
   }
-  if (!open_) start(r);
+  if (!open_) start(r, id);
   if (c_.t && r.line != cur_.first_line) {
     const double step = r.t - last_t_;
     if (step < min_step_ || min_line_ == 0) min_step_ = step, min_line_ = r.line;
@@ -112,10 +126,10 @@ void RecordBuilder::missing(const Row& r, const char* what) {
   close(true);
 }
 
-void RecordBuilder::start(const Row& r) {
+void RecordBuilder::start(const Row& r, long long id) {
   cur_ = Record{};
   cur_.source = source_;
-  cur_.id = r.id;
+  cur_.id = id;
   cur_.first_line = r.line;
   cur_.offset = d_.x.size();
   cur_.t0 = c_.t ? r.t : 0.0;

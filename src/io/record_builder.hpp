@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <set>
 #include <string>
+#include <string_view>
 
 #include "vehs/core/dataset.hpp"
 #include "vehs/io/measurements.hpp"
@@ -17,12 +18,19 @@ struct Columns {
   bool t = false, traj = false, u = false, y = false;
 };
 
-/// One data row: `line` is the 1-based line (CSV) or row + 1 (binary formats).
+/// One data row: `line` is the 1-based line (CSV) or row + 1 (binary formats). `id` is the record
+/// id column's value as read (RecordBuilder checks it: kMaxRecordId); `id_text` its text when the
+/// format has one (CSV), for messages.
 struct Row {
   std::size_t line = 0;
-  long long id = 0;
+  double id = 0.0;
+  std::string_view id_text;
   double t = 0.0, x = 0.0, u = 0.0, y = 0.0;
 };
+
+/// The largest record id magnitude, 2^53 - 1: ids pass through a double, which holds every
+/// integer up to it exactly (larger ids could not be told apart).
+inline constexpr double kMaxRecordId = 9007199254740991.0;
 
 class RecordBuilder {
  public:
@@ -36,12 +44,13 @@ class RecordBuilder {
   std::string where(std::size_t line) const;
 
  private:
-  void start(const Row& r);
+  void start(const Row& r, long long id);
+  /// The row's record id: an integer of magnitude at most kMaxRecordId, else throws naming the row.
+  long long record_id(const Row& r) const;
   void close(bool split);
   void missing(const Row& r, const char* what);
   /// Throws at the second of two equal steps off the interval (both gaps, or both too short).
   void check_interval_change(const Row& r, double step);
-  bool id_changed(const Row& r) const;
 
   Dataset& d_;
   std::string source_;

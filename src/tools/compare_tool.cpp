@@ -89,7 +89,7 @@ struct Statistics {
 /// expected tool wrote it for one of `models` and its moments are numbers (checked before
 /// anything is printed).
 Statistics read_statistics(const Config& c, const std::string& key, FileKind expected, const Compared& models) {
-  const std::string path = c.string(key);
+  const std::string path = c.path(key);
   nlohmann::json j = read_json_file(path, expected == FileKind::FpkResult ? "FPK result" : "Monte Carlo statistics");
   if (const FileKind kind = file_kind(j); kind != expected)
     c.fail(key, "names " + path + ", " + describe(kind) + "; it takes " + describe(expected) + " (the file of its " +
@@ -104,7 +104,7 @@ Statistics read_statistics(const Config& c, const std::string& key, FileKind exp
 
 /// The model file named by the config key `key`; a statistics file given instead is named as such.
 ModelFile read_model(const Config& c, const std::string& key) {
-  const std::string path = c.string(key);
+  const std::string path = c.path(key);
   try {
     return read_model_file(path);
   } catch (const Error&) {  // (only a file that failed is read again, to say what it is)
@@ -144,7 +144,7 @@ const ConfigSchema& compare_schema() {
 int run_compare(Config& c, const AppOptions&) {
   const ModelFile learned_file = read_model(c, "learned");
   auto checked_model = [&](const std::string& key) {  // a model the library would refuse is no table entry
-    const std::string path = c.string(key);
+    const std::string path = c.path(key);
     ModelFile f = key == "learned" ? learned_file : read_model(c, key);
     validate_model(f.model, path);
     if (key != "learned") require_same_units(c.string("learned"), learned_file, path, f);
@@ -241,7 +241,7 @@ int run_compare(Config& c, const AppOptions&) {
       std::printf("\n");
     }
   }
-  if (c.has("output")) table.write_csv(c.string("output"));
+  if (c.has("output")) table.write_csv(c.path("output"));
   return 0;
 }
 

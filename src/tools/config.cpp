@@ -9,6 +9,7 @@
 
 #include "vehs/core/error.hpp"
 #include "vehs/io/json_file.hpp"
+#include "vehs/io/path_text.hpp"
 
 namespace vehs::tools {
 
@@ -220,6 +221,22 @@ std::vector<std::string> Config::string_list(const std::string& key) const {
     out.push_back(e.get<std::string>());
   }
   return out;
+}
+
+std::string Config::path(const std::string& key) const {
+  std::string p = string(key);
+  check_path_text(p, where(key));
+  return p;
+}
+
+std::string Config::path_or(const std::string& key, const std::string& fallback) const {
+  return has(key) ? path(key) : fallback;
+}
+
+std::vector<std::string> Config::path_list(const std::string& key) const {
+  std::vector<std::string> paths = string_list(key);
+  for (const auto& p : paths) check_path_text(p, where(key));
+  return paths;
 }
 
 Config Config::object(const std::string& key, const std::vector<std::string>& allowed) const {

@@ -64,6 +64,11 @@ class Config {
   std::string string_or(const std::string& key, const std::string& fallback) const;
   /// A string or list of strings as a list.
   std::vector<std::string> string_list(const std::string& key) const;
+  /// string / string_or / string_list for a file or folder path: a control character in it
+  /// (vehs/io/path_text.hpp: a NUL would cut it) is an error naming the key.
+  std::string path(const std::string& key) const;
+  std::string path_or(const std::string& key, const std::string& fallback) const;
+  std::vector<std::string> path_list(const std::string& key) const;
   /// A sub-object, rejecting keys outside `allowed` (empty: accept anything).
   Config object(const std::string& key, const std::vector<std::string>& allowed = {}) const;
   /// Checks that this object's keys are within `allowed`.

@@ -14,7 +14,8 @@ KeySpec glitches_key_spec() {
   return {"glitches", "\"error\" | \"drop\" | \"keep\"",
           "Isolated glitch samples (one sample far off the line through its neighbours: |x_i - (x_{i-1} + "
           "x_{i+1})/2| > 12 robust standard deviations of that quantity, with the one-displaced-sample "
-          "signature at i-1 and i+1): \"error\" stops naming their lines, \"drop\" cuts each record at its "
+          "signature at i-1 and i+1; a record's first and last samples are tested one-sided, against the line through "
+          "their next two samples): \"error\" stops naming their lines, \"drop\" cuts each record at its "
           "glitches (the pieces are fitted as separate records; pieces under 16 samples are left out), "
           "\"keep\" fits them as data.",
           "\"error\""};

@@ -248,9 +248,9 @@ diagnose::Options diagnose_options(const Config& c) {
 }
 
 int run_diagnose(Config& c, const AppOptions& app) {
-  const std::string output = c.string("output");
-  const std::string folder = c.has("report") ? c.string("report") : default_report(output);
-  const std::string history_path = c.has("history") ? c.string("history") : (fs::path(folder) / "history.json").string();
+  const std::string output = c.path("output");
+  const std::string folder = c.has("report") ? c.path("report") : default_report(output);
+  const std::string history_path = c.has("history") ? c.path("history") : (fs::path(folder) / "history.json").string();
   diagnose::Options o = diagnose_options(c);
   o.progress = app.progress;
   read_history(history_path);  // fail before the work when the history file is not usable
@@ -267,7 +267,7 @@ int run_diagnose(Config& c, const AppOptions& app) {
       c.has("label") ? c.string("label") : (mv.is_string() ? fs::path(model_file).stem().string() : "inline model");
   // data
   const bool fail_on_inadequate = c.boolean_or("fail_on_inadequate", false);
-  const auto files = c.string_list("data");
+  const auto files = c.path_list("data");
   const LoadedData loaded = load_measurements(c, model.uses_drive(), app);
   const Dataset& data = loaded.data;
   nlohmann::ordered_json units = units_block(c);

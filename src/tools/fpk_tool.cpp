@@ -228,7 +228,7 @@ int run_fpk(Config& cfg, const AppOptions& app) {
   const std::string model_where =
       cfg.raw("model").is_string() ? cfg.raw("model").get<std::string>() : cfg.where("model");
   const FpkModel fm(model, model_where);
-  const std::string output = cfg.string("output");
+  const std::string output = cfg.path("output");
   FpkSettings st = fpk_settings(cfg);
   if (st.solve.solver == Solver::Sor) st.solve.sor.progress = app.progress;
   const SolveOptions& opt = st.solve;
@@ -260,7 +260,7 @@ int run_fpk(Config& cfg, const AppOptions& app) {
 
   const StationaryResult res = solve_with_domain(fm, req, opt, dom);
   nlohmann::ordered_json out = result_to_json(res);
-  const std::string density = cfg.string_or("density", stem_of(output) + ".density.csv");
+  const std::string density = cfg.path_or("density", stem_of(output) + ".density.csv");
   const std::string dstem = stem_of(density);
   write_density(density, res);
   write_marginals(dstem + ".marginal_x.csv", dstem + ".marginal_y.csv", fm, res);
@@ -269,7 +269,7 @@ int run_fpk(Config& cfg, const AppOptions& app) {
   out["marginal_y_file"] = dstem + ".marginal_y.csv";
   auto figures = nlohmann::ordered_json::array();
   if (cfg.has("figures"))
-    for (const auto& f : density_figures(cfg.string("figures"), fm, res,
+    for (const auto& f : density_figures(cfg.path("figures"), fm, res,
                                          model_file.sections.contains("units") ? nlohmann::json(model_file.sections["units"])
                                                                                : nlohmann::json::object()))
       figures.push_back(f);
@@ -290,12 +290,12 @@ int run_fpk(Config& cfg, const AppOptions& app) {
     }
     if (failed == sw.points.size())
       throw Error(cfg.where("sweep") + ": every point failed (first: " + sw.points.front().error + ")");
-    const std::string table = cfg.string_or("sweep_table", stem_of(output) + ".sweep.csv");
+    const std::string table = cfg.path_or("sweep_table", stem_of(output) + ".sweep.csv");
     write_sweep_table(table, sw);
     out["sweep"] = sweep_to_json(sw);
     out["sweep"]["table"] = table;
     if (cfg.has("figures"))
-      for (const auto& f : sweep_figures(cfg.string("figures"), sw)) figures.push_back(f);
+      for (const auto& f : sweep_figures(cfg.path("figures"), sw)) figures.push_back(f);
   }
   if (cfg.has("figures")) out["figures"] = figures;
   const nlohmann::json units = model_file.sections.contains("units") ? nlohmann::json(model_file.sections["units"])

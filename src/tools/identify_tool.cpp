@@ -504,7 +504,7 @@ IdentifiedInMemory identify_in_memory(const Config& c, const Dataset& data, cons
 }
 
 int run_identify(Config& c, const AppOptions& app) {
-  const std::string output = c.string("output");
+  const std::string output = c.path("output");
   if (c.has("study")) {
     StudyOptions so = study_options(c);
     so.progress = app.progress;
@@ -524,7 +524,7 @@ int run_identify(Config& c, const AppOptions& app) {
   for (const auto& t : identify_options(c).drift_library) need_u = need_u || t.depends_on_u();
   (void)likelihood_settings(c);
   const nlohmann::ordered_json units = units_block(c);
-  const auto files = c.string_list("data");
+  const auto files = c.path_list("data");
   LoadedData loaded = load_measurements(c, need_u, app);
   const std::string& detrend = loaded.detrend;
   std::function<void(const std::string&)> log;
@@ -553,7 +553,7 @@ int run_identify(Config& c, const AppOptions& app) {
   sections["provenance"] = {{"tool", "identify-vehs"}, {"library", library_version()}, {"config", c.json()}};
   std::string figure;
   if (c.has("figures")) {
-    figure = identify_figure(c.string("figures"), r.model, data, units);
+    figure = identify_figure(c.path("figures"), r.model, data, units);
     sections["figure"] = figure;
   }
   write_model_file(output, r.model, sections);

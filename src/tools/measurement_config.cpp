@@ -113,7 +113,7 @@ LoadedData load_measurements(const Config& c, bool need_u, const AppOptions& app
 }
 
 LoadedData load_measurements(const Config& c, const ReadOptions& options, bool quiet) {
-  const auto files = c.string_list("data");
+  const auto files = c.path_list("data");
   if (files.empty()) c.fail("data", "lists no file");
   LoadedData l;
   l.data = checked_measurements(c, read_measurements(files, options, &l.summary));

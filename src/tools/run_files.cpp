@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "vehs/core/error.hpp"
+#include "vehs/io/path_text.hpp"
 
 namespace vehs::tools {
 
@@ -28,6 +29,12 @@ bool is_input_file_key(const std::string& key) {
 }
 
 bool is_output_folder_key(const std::string& key) { return key == "figures" || key == "report"; }
+
+// keys whose string values are paths (checked for control characters before any use)
+bool is_path_key(const std::string& key) {
+  return is_output_file_key(key) || is_input_file_key(key) || is_output_folder_key(key) || key == "fpk" ||
+         key == "series";
+}
 
 struct Walk {
   const Config& config;
@@ -72,6 +79,7 @@ struct Walk {
   }
 
   void value(const std::string& where, const std::string& key, const nlohmann::json& v) {
+    if (v.is_string() && is_path_key(key)) check_path_text(v.get<std::string>(), config.file() + ": '" + where + "'");
     if (v.is_string() && is_output_file_key(key)) return output(where, v.get<std::string>());
     if (v.is_string() && is_output_folder_key(key)) return check_folder(where, v.get<std::string>());
     if (v.is_string() && is_input_file_key(key)) {  // a named input must exist: say which key names it
@@ -80,7 +88,7 @@ struct Walk {
       if (path.empty() || ::stat(path.c_str(), &st) != 0)
         throw Error(config.file() + ": '" + where + "': " + (path.empty() ? "an empty path" : path + ": no such file"));
       if (S_ISDIR(st.st_mode)) throw Error(config.file() + ": '" + where + "': " + path + " is a directory, not a file");
-      if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode))  // /dev/zero would be read for ever (pipes are fine)
+      if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode))  // /dev/zero would be read for ever (a pipe: its reader decides)
         throw Error(config.file() + ": '" + where + "': " + path + " is a device, not a file");
     }
     if (v.is_string()) return transaction.protect(v.get<std::string>(), "input '" + where + "'");

@@ -262,7 +262,7 @@ SimulateJob simulate_job_from_config(const Config& c, const std::vector<std::vec
     ro.t_column = d.string_or("t_column", "t");
     ro.dt = o.dt;
     ro.read_u = false;
-    const std::string path = d.string("path");
+    const std::string path = d.path("path");
     const Dataset file = read_measurements(path, ro);
     std::vector<std::vector<double>> series;
     for (const auto& r : file.records) {
@@ -275,7 +275,7 @@ SimulateJob simulate_job_from_config(const Config& c, const std::vector<std::vec
   }
 
   if (c.has("output")) {
-    job.output = c.string("output");
+    job.output = c.path("output");
     if (job.output.empty()) c.fail("output", "must be a file path");
     for (const char* binary : {".mat", ".npz", ".h5", ".hdf5", ".xlsx", ".xls", ".parquet"})  // CSV text under a binary name
       if (std::filesystem::path(job.output).extension() == binary)
@@ -284,7 +284,7 @@ SimulateJob simulate_job_from_config(const Config& c, const std::vector<std::vec
   if (c.has("statistics")) {
     const Config s = c.object("statistics", {"output", "discard", "grid", "px", "py", "pxy", "batches"});
     job.with_statistics = true;
-    job.statistics_json = s.string("output");
+    job.statistics_json = s.path("output");
     job.statistics.discard = s.non_negative_or("discard", 0.0);
     job.statistics.batches = static_cast<std::size_t>(s.integer_at_least("batches", 2, 32));
     if (s.has("grid")) {
@@ -292,9 +292,9 @@ SimulateJob simulate_job_from_config(const Config& c, const std::vector<std::vec
       job.statistics.histograms = true;
       read_grid_axis(g, "x", job.statistics.x_min, job.statistics.x_max, job.statistics.nx);
       read_grid_axis(g, "y", job.statistics.y_min, job.statistics.y_max, job.statistics.ny);
-      job.px_csv = s.string_or("px", beside(job.statistics_json, "_px.csv"));
-      job.py_csv = s.string_or("py", beside(job.statistics_json, "_py.csv"));
-      job.pxy_csv = s.string_or("pxy", beside(job.statistics_json, "_pxy.csv"));
+      job.px_csv = s.path_or("px", beside(job.statistics_json, "_px.csv"));
+      job.py_csv = s.path_or("py", beside(job.statistics_json, "_py.csv"));
+      job.pxy_csv = s.path_or("pxy", beside(job.statistics_json, "_pxy.csv"));
     } else if (s.has("px") || s.has("py") || s.has("pxy")) {
       s.fail("grid", "is needed for histograms (px, py, pxy)");
     }
@@ -315,7 +315,7 @@ SimulateJob simulate_job_from_config(const Config& c, const std::vector<std::vec
   }
   if (job.output.empty() && !job.with_statistics)
     throw Error(c.file() + ": give 'output' (records) and/or 'statistics' — nothing would be written");
-  if (c.has("summary")) job.summary = c.string("summary");
+  if (c.has("summary")) job.summary = c.path("summary");
   if (c.has("record_phases"))
     job.record_phases = number_list(c, "record_phases", static_cast<std::size_t>(o.records));
   else if (job.model.fit && job.model.fit->likelihood &&

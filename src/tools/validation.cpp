@@ -108,9 +108,9 @@ int run_validation(const Model& model, const Config& c, const AppOptions& app) {
     if (c.has(key)) c.fail(key, "cannot be combined with 'validate' (the validation writes validate.output)");
   const Config v = c.object("validate", {"data", "columns", "dt", "detrend", "segments", "skip", "input", "substeps",
                                          "scale", "unit", "output", "series", "figure", "figure_samples"});
-  const std::string output = v.string("output");
+  const std::string output = v.path("output");
   const ReadOptions ro = read_options(v, model.uses_drive());  // the same columns and dt keys as identify
-  Dataset data = read_measurements(v.string_list("data"), ro);
+  Dataset data = read_measurements(v.path_list("data"), ro);
   const std::string detrend = v.string_or("detrend", "none");
   if (detrend == "mean")
     subtract_record_means(data);
@@ -132,7 +132,7 @@ int run_validation(const Model& model, const Config& c, const AppOptions& app) {
   const std::string unit = v.string_or("unit", "");
   const bool figure = v.boolean_or("figure", false);
   const auto figure_samples = static_cast<std::size_t>(v.integer_at_least("figure_samples", 10, 300));
-  const std::string series_path = v.string_or("series", beside(output, "_series.csv"));
+  const std::string series_path = v.path_or("series", beside(output, "_series.csv"));
 
   if (model.uses_drive()) check_input_interpolation(fo.input, data, true, v.where("input"));
   nlohmann::ordered_json j;

@@ -69,3 +69,35 @@ TEST_CASE("values printed with 2 or 3 decimals: rounding steps are not glitches,
       CHECK(g[0].sample == 5000);
     }
 }
+
+TEST_CASE("a bad first or last sample of a record is a glitch (the one-sided rule at the ends)",
+          "[core][glitches][asan]") {
+  // a logger killed mid-write ("3,49.99,0." read as x = 0) or a 0 logged at a record's start
+  // wrecked the fit unseen: the ends had no test
+  const vehs::Dataset clean = oscillator(5000, 17, 3);
+  for (const std::size_t at : {std::size_t{0}, std::size_t{1}, std::size_t{2}, std::size_t{4997}, std::size_t{4998},
+                               std::size_t{4999}})
+    for (const double bad : {0.0, 3.0}) {
+      vehs::Dataset d = clean;
+      const std::size_t k = d.records[1].offset + at;
+      if (std::abs(d.x[k] - bad) < 0.2) continue;  // not off its neighbours
+      d.x[k] = bad;
+      INFO("sample " << at << " set to " << bad);
+      const auto g = vehs::find_glitches(d);
+      REQUIRE(g.size() == 1);
+      CHECK(g[0].record == 1);
+      CHECK(g[0].sample == at);
+      CHECK(g[0].line == d.records[1].first_line + at);
+      const vehs::Dataset kept = vehs::drop_glitches(d, g);
+      CHECK(vehs::find_glitches(kept).empty());
+      const std::size_t after = 4999 - at, stub = (at < 16 ? at : 0) + (after < 16 ? after : 0);
+      CHECK(kept.total_samples() == d.total_samples() - 1 - stub);  // (the pieces under 16 samples go too)
+    }
+}
+
+TEST_CASE("clean records: no glitch at their ends either, nor a step at the second sample", "[core][glitches]") {
+  for (std::uint32_t seed = 1; seed <= 10; ++seed) CHECK(vehs::find_glitches(oscillator(2000, seed, 4)).empty());
+  vehs::Dataset d = oscillator(2000, 3);
+  for (std::size_t i = 2; i < d.x.size(); ++i) d.x[i] += 2.0;  // an offset jump between samples 1 and 2
+  CHECK(vehs::find_glitches(d).empty());
+}

@@ -50,3 +50,16 @@ TEST_CASE("set-overrides parse JSON or bare strings", "[config]") {
   CHECK(c.string("output") == "a/b.csv");
   CHECK_THROWS_AS(c.set_override("nope=1", schema()), vehs::Error);
 }
+
+TEST_CASE("paths with control characters are refused naming the key (a NUL cut them)", "[config]") {
+  // "data.csv\u0000junk" was read as data.csv; "sim.npy\u0000.csv" wrote CSV text into sim.npy
+  const auto f = write_temp("vehs_cfg_nul.json", R"({"dt": 1, "output": "sim.npy\u0000.csv"})");
+  const auto c = vehs::tools::Config::load(f, schema());
+  CHECK(c.string("output").size() == 12);
+  CHECK_THROWS_WITH(c.path("output"), f + ": 'output': the path 'sim.npy\\x00.csv' contains the control character "
+                                          "0x00 (NUL) at byte 8 (paths must not hold control characters)");
+  const vehs::tools::Config list(nlohmann::json::parse(R"({"data": ["a.csv", "b\tc.csv"]})"), "cfg.json");
+  CHECK_THROWS_WITH(list.path_list("data"), Catch::StartsWith("cfg.json: 'data': the path 'b\\x09c.csv'") &&
+                                                Catch::Contains("0x09 (tab) at byte 2"));
+  CHECK(vehs::tools::Config(nlohmann::json::parse(R"({"data": "é ü.csv"})"), "cfg.json").path_list("data").size() == 1);
+}

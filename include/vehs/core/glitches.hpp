@@ -11,9 +11,14 @@
 // most r_i of values printed "%.2f" are exactly 0 and MAD is round-off). Sample i is an
 // isolated glitch when |r_i| > threshold·σ and both neighbours show the signature of one displaced
 // sample, r_{i±1} ≈ −r_i/2 (within |r_i|/4), while r_{i±2} stays below |r_i|/4: a steep but smooth
-// feature of the signal (an impact, a fast transient) does not have that shape. The first and
-// last two samples of a record are not tested. For Gaussian r the false-alarm probability per
-// sample at the default threshold 12 is 2·Φ(−12) ≈ 4e-33.
+// feature of the signal (an impact, a fast transient) does not have that shape. Near a record's
+// ends the r that do not exist are left out of the signature; the first (last) sample, which has
+// no r of its own, is tested one-sided: a displacement g of it makes its one neighbour's
+// r_1 = −g/2 (r_{n−2}) while r_2 and r_3 (r_{n−3}, r_{n−4}) stay below |r_1|/4, and it is a glitch
+// when |r_1| > threshold·σ (the same false-alarm rate; g must be twice an interior glitch's). A
+// truncated last line ("3,49.99,0.") or a 0 logged at a record's start is caught like any
+// other glitch; an offset step between the first two samples cannot be told from it. For Gaussian
+// r the false-alarm probability per sample at the default threshold 12 is 2·Φ(−12) ≈ 4e-33.
 #include <cstddef>
 #include <string>
 #include <vector>

@@ -15,9 +15,12 @@ Usage: run_bad_inputs.py BIN_DIR [--only SUBSTRING] [--list] [--keep DIR] [--tim
 import argparse
 import hashlib
 import json
+import math
 import os
 import shutil
 import signal
+import socket
+import struct
 import subprocess
 import sys
 import tempfile
@@ -157,6 +160,7 @@ def cases():
             add(Case(f"{key} under a file", t, with_(t, **{key: "data.csv/x.json"}), mentions=["data.csv"]))
             add(Case(f"{key} empty", t, with_(t, **{key: ""}), mentions=[key]))
             add(Case(f"{key} = /dev/null", t, with_(t, **{key: "/dev/null"}), mentions=["/dev/null"]))
+            add(Case(f"{key} with a NUL inside", t, with_(t, **{key: "out.npy\u0000.csv"}), mentions=[f"'{key}'"]))
         if len(keys) > 1:
             add(Case(f"{keys[0]} = {keys[1]}", t, with_(t, **{keys[0]: "same.json", keys[1]: "same.json"}),
                      mentions=["same.json"]))
@@ -198,6 +202,7 @@ def cases():
         add(Case("model is a directory", t, with_(t, **{key: "mdir"}), mentions=["mdir"],
                  setup=lambda d: os.mkdir(os.path.join(d, "mdir"))))
         add(Case("model is missing", t, with_(t, **{key: "missing.json"}), mentions=["missing.json"]))
+        add(Case("model path with a NUL inside", t, with_(t, **{key: "model.json\u0000x"}), mentions=[f"'{key}'"]))
 
     # ---- measurement files ----------------------------------------------------------------
     bad_data = {
@@ -236,6 +241,26 @@ def cases():
                  setup=lambda d: make_bom(d, "data.csv", "bom.csv")))
         add(Case("glitch sample", t, with_(t, data=["glitch.csv"]), mentions=["glitch.csv"],
                  setup=lambda d: make_glitch(d, "data.csv", "glitch.csv")))
+        add(Case("a truncated last line (x '0.')", t, with_(t, data=["cut.csv"]), mentions=["cut.csv: line"],
+                 setup=lambda d: make_truncated_end(d, "data.csv", "cut.csv")))
+        add(Case("a 0 logged at a record's first sample", t, with_(t, data=["start0.csv"]),
+                 mentions=["start0.csv: line"], setup=lambda d: make_zero_start(d, "data.csv", "start0.csv")))
+        # what the readers accepted silently or answered badly (issue 36)
+        add(Case(".mat record ids 0.2 and 0.7 (not integers)", t, with_(t, data=["ids.mat"]),
+                 mentions=["ids.mat: row 1: record id 0.2 is not an integer"], setup=make_fractional_id_mat))
+        add(Case("record id 2^53 + 1", t, with_(t, data=["bigid.csv"]), mentions=["2^53 - 1 = 9007199254740991"],
+                 setup=lambda d: make_big_ids(d, "data.csv", "bigid.csv", 2 ** 53 + 1)))
+        add(Case(".npy field of shape (2,)", t, with_(t, data=["sub.npy"]), mentions=["sub.npy: field 'x' is a sub-array"],
+                 setup=make_subarray_npy))
+        add(Case("a corrupt v7.3 .mat file", t, with_(t, data=["bad73.mat"]), mentions=["bad73.mat: cannot read"],
+                 setup=make_corrupt_mat73))
+        add(Case("data is a FIFO without writer", t, with_(t, data=["fifo.csv"]), mentions=["fifo.csv: is a FIFO"],
+                 setup=lambda d: os.mkfifo(os.path.join(d, "fifo.csv"))))
+        add(Case("data is a socket", t, with_(t, data=["sock.csv"]), mentions=["sock.csv: is a socket"],
+                 setup=make_socket))
+        add(Case("NUL inside the data path", t, with_(t, data=["data.csv\u0000junk"]), mentions=["'data'"]))
+        add(Case("a line feed inside the data path (a file of that name exists)", t, with_(t, data=["data\n.csv"]),
+                 mentions=["'data'"], setup=lambda d: shutil.copy(os.path.join(d, "data.csv"), os.path.join(d, "data\n.csv"))))
         if t == "identify-vehs":
             add(Case("x with a large offset (names the cure, detrend)", t, with_(t, data=["offset.csv"]),
                      mentions=["detrend"], setup=lambda d: make_offset(d, "data.csv", "offset.csv")))
@@ -358,6 +383,9 @@ def cases():
     add(Case("a 245-byte output name is written", "identify-vehs", with_("identify-vehs", output="n" * 240 + ".json"),
              expect="ok", check=lambda d, out, err: [] if os.path.exists(os.path.join(d, "n" * 240 + ".json"))
              else ["no output"]))
+    add(Case("identify: record ids up to 2^53 - 1 are read", "identify-vehs", with_("identify-vehs", data=["bigid.csv"]),
+             setup=lambda d: make_big_ids(d, "data.csv", "bigid.csv", 2 ** 53 - 4), expect="ok",
+             check=lambda d, out, err: []))
     add(Case("identify: glitches dropped on request", "identify-vehs", with_("identify-vehs", data=["glitch.csv"],
              glitches="drop"), setup=lambda d: make_glitch(d, "data.csv", "glitch.csv"), expect="ok",
              check=lambda d, out, err: [] if "warning: dropped 1 isolated glitch sample" in err else ["no report of the drop"]))
@@ -449,12 +477,83 @@ def make_dropout(d, src, dst):
 def make_glitch(d, src, dst):
     with open(os.path.join(d, src)) as f:
         lines = f.read().splitlines()
-    k = len(lines) // 3 + 777  # inside a record (its first and last samples are not tested)
+    k = len(lines) // 3 + 777  # inside a record
     parts = lines[k].split(",")
     parts[-1] = "0.5" if abs(float(parts[-1]) - 0.5) > 0.3 else "-0.9"
     lines[k] = ",".join(parts)
     with open(os.path.join(d, dst), "w") as f:
         f.write("\n".join(lines) + "\n")
+
+
+def make_truncated_end(d, src, dst):  # a logger killed mid-write: the file ends in "3,59.87,0."
+    with open(os.path.join(d, src)) as f:
+        lines = f.read().splitlines()
+    last = max(i for i in range(len(lines) - 200, len(lines)) if abs(float(lines[i].split(",")[-1])) > 0.3)
+    parts = lines[last].split(",")
+    parts[-1] = parts[-1][:parts[-1].index(".") + 1]
+    with open(os.path.join(d, dst), "w") as f:
+        f.write("\n".join(lines[:last] + [",".join(parts)]) + "\n")
+
+
+def make_zero_start(d, src, dst):  # the record whose first x is farthest from 0 starts with a 0
+    with open(os.path.join(d, src)) as f:
+        lines = f.read().splitlines()
+    starts = [i for i in range(1, len(lines)) if i == 1 or lines[i].split(",")[0] != lines[i - 1].split(",")[0]]
+    k = max(starts, key=lambda i: abs(float(lines[i].split(",")[-1])))
+    parts = lines[k].split(",")
+    parts[-1] = "0"
+    lines[k] = ",".join(parts)
+    with open(os.path.join(d, dst), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def make_big_ids(d, src, dst, first):  # the records' ids counted from `first` (2^53 - 4: the largest ids)
+    with open(os.path.join(d, src)) as f:
+        lines = f.read().splitlines()
+    out = [lines[0]]
+    for line in lines[1:]:
+        parts = line.split(",")
+        parts[0] = str(first + int(parts[0]))
+        out.append(",".join(parts))
+    with open(os.path.join(d, dst), "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
+def write_mat_v4(path, columns):  # MATLAB v4: per variable a header, its name and float64 values
+    with open(path, "wb") as f:
+        for name, values in columns.items():
+            f.write(struct.pack("<5i", 0, len(values), 1, 0, len(name) + 1) + name.encode() + b"\0")
+            f.write(struct.pack(f"<{len(values)}d", *values))
+
+
+def make_fractional_id_mat(d):  # two records labelled 0.2 and 0.7 (they were read as one)
+    n = 400
+    write_mat_v4(os.path.join(d, "ids.mat"), {
+        "traj": [0.2 if i < n else 0.7 for i in range(2 * n)],
+        "t": [0.01 * (i % n) for i in range(2 * n)],
+        "x": [math.sin(0.05 * i) for i in range(2 * n)]})
+
+
+def make_subarray_npy(d):  # dtype [('t', '<f8'), ('x', '<f8', (2,))]
+    header = "{'descr': [('t', '<f8'), ('x', '<f8', (2,))], 'fortran_order': False, 'shape': (100,), }"
+    header += " " * (63 - (10 + len(header)) % 64) + "\n"
+    with open(os.path.join(d, "sub.npy"), "wb") as f:
+        f.write(b"\x93NUMPY\x01\x00" + struct.pack("<H", len(header)) + header.encode())
+        for i in range(100):
+            f.write(struct.pack("<3d", 0.01 * i, math.sin(0.05 * i), math.cos(0.05 * i)))
+
+
+def make_corrupt_mat73(d):  # a v7.3 header (HDF5 inside) followed by garbage
+    head = b"MATLAB 7.3 MAT-file, Platform: GLNXA64, Created on: Mon Jan  5 10:00:00 2026 HDF5 schema 1.00 ."
+    head = head.ljust(116, b" ") + b"\0" * 8 + b"\x00\x02IM"
+    with open(os.path.join(d, "bad73.mat"), "wb") as f:
+        f.write(head.ljust(512, b"\0") + b"garbage" * 60)
+
+
+def make_socket(d):
+    s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    s.bind(os.path.join(d, "sock.csv"))
+    s.close()
 
 
 def snapshot(d):
