@@ -22,6 +22,7 @@
 #include "vehs/likelihood/signals.hpp"
 #include "tools/identify_figures.hpp"
 #include "tools/measurement_config.hpp"
+#include "tools/recorded_input.hpp"
 #include "tools/study_output.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/identify/dynamic.hpp"
@@ -209,11 +210,15 @@ const ConfigSchema& identify_schema() {
           {"drift_library", "{\"K1\", \"K2\"} | [terms] | \"paper\"",
            "Drift dictionary: the paper's Eq. 11 [1, x, ..., x^(K1-1), y, x y, ..., x^(K2-1) y], "
            "or an explicit list of term names (\"x^3\", \"x^2*y\", \"y^3\", \"sign(y)\", "
-           "\"y*|y|\", \"u\").",
-           "{\"K1\": 11, \"K2\": 3}"},
+           "\"y*|y|\", \"u\"). Without this key, data with an input column (columns.u, default "
+           "\"u\") get driven data's default library, {\"K1\": 4, \"K2\": 3} and the drive term "
+           "u (said on stderr and in the model file's data.input); a given library without u while "
+           "the data have an input is warned about (the recorded input is then not used).",
+           "{\"K1\": 11, \"K2\": 3}; with an input column {\"K1\": 4, \"K2\": 3} and u"},
           {"diffusion_library", "{\"M\"} | [terms] | \"paper\"",
-           "Diffusion dictionary: the paper's Eq. 17 [1, x, ..., x^M], or a list of term names.",
-           "{\"M\": 4}"},
+           "Diffusion dictionary: the paper's Eq. 17 [1, x, ..., x^M], or a list of term names. "
+           "Data with an input column and no drift_library: [\"1\"] by default.",
+           "{\"M\": 4}; [\"1\"] with an input column"},
           {"effects", "[names | {name, params}]", kEffectsHelp, "[]"},
           {"keep_terms", "{\"drift\": [...], \"diffusion\": [...]}",
            "Terms the sparse regression must never remove.", "{}"},
@@ -441,6 +446,28 @@ void refresh_effect_params(identify::Result& r, const std::vector<Effect>& reque
   r.report.effect_params = std::move(params);
 }
 
+/// The moment fits of the estimators other than `chosen` (uli, noisy, forward), kept in `results`
+/// (aligned with the candidates) for the one the likelihood may start from.
+std::vector<MomentCandidate> other_moment_fits(const Dataset& data, const Options& o, Estimator chosen,
+                                               std::vector<std::optional<identify::Result>>& results) {
+  std::vector<MomentCandidate> out;
+  for (Estimator e : {Estimator::Uli, Estimator::Noisy, Estimator::Forward}) {
+    if (e == chosen) continue;
+    Options a = o;
+    a.estimator = e;
+    MomentCandidate c{enum_to_string(kEstimatorNames, e), std::nullopt, {}};
+    try {
+      results.emplace_back(identify::identify(data, a));
+      c.model = results.back()->model;
+    } catch (const Error& err) {
+      results.emplace_back(std::nullopt);
+      c.failure = err.what();
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
 }  // namespace
 
 IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressCallback& progress,
@@ -449,9 +476,11 @@ IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressC
   o.progress = progress;
   LikelihoodSettings lik = likelihood_settings(c);
   lik.options.log = log;
-  if (lik.options.select) lik.options.candidate_drift = o.drift_library, lik.options.candidate_diffusion = o.diffusion_library;
   if (c.has("samples")) ranged = sample_range(c, loaded);
   const Dataset& data = ranged ? *ranged : loaded;
+  RecordedInput input = use_recorded_input(c, data, o);
+  if (log && input.added) log("identify: " + input.why);
+  if (lik.options.select) lik.options.candidate_drift = o.drift_library, lik.options.candidate_diffusion = o.diffusion_library;
   // the default folds only feed the CV figures under the BIC criterion: fewer on small data
   if (!c.has("folds") && o.criterion == identify::Criterion::Bic)
     o.folds = static_cast<int>(std::clamp<std::size_t>(data.total_samples() / 100, 2, static_cast<std::size_t>(o.folds)));
@@ -467,12 +496,18 @@ IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressC
                       throw Error(what + "; " + hint);
                     }
                   }(),
-                  {}};
+                  {}, {}};
+  fit.input = std::move(input);
   Options quiet = o;
   quiet.progress = {};
+  // under auto the likelihood starts from every moment fit (tools/likelihood_starts.hpp)
+  std::vector<std::optional<identify::Result>> others;
+  MomentCandidates other_fits;
+  if (o.estimator == Estimator::Auto)
+    other_fits = [&] { return other_moment_fits(data, quiet, fit.result.model.fit->estimator, others); };
   try {
     fit.refinement = refine_moment_fit(fit.result.model, data, lik,
-                                       [&](const Dataset& one) { return identify::identify(one, quiet).model; });
+                                       [&](const Dataset& one) { return identify::identify(one, quiet).model; }, other_fits);
   } catch (const likelihood::FilterDiverged& e) {  // no evidence against the model: the moment fit stands
     fit.refinement = Refinement{};
     fit.refinement.adequacy = likelihood::assess_sampling(fit.result.model, data);
@@ -480,6 +515,15 @@ IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressC
     fit.refinement.warnings.push_back(std::string("the likelihood could not refine the moment fit (") + e.what() +
                                       "); the model is the moment fit, with its standard errors");
     if (log) log("likelihood: failed, the moment fit stands: " + fit.refinement.failure);
+    return fit;
+  }
+  if (const std::size_t k = fit.refinement.chosen_candidate; k > 0) {
+    identify::Result chosen = std::move(*others[k - 1]);
+    chosen.model = std::move(fit.result.model);  // the refined model
+    chosen.report.estimator.reason = "the likelihood's highest start (estimator.likelihood_starts); auto had read: " +
+                                     fit.result.report.estimator.reason;
+    chosen.report.estimator.requested = Estimator::Auto;
+    fit.result = std::move(chosen);
   }
   if (fit.refinement.result) refresh_effect_params(fit.result, o.effects);
   return fit;
@@ -498,6 +542,9 @@ IdentifiedInMemory identify_in_memory(const Config& c, const Dataset& data, cons
                   " as the catalogue defines it; " + where + " not written");
   out.sections = identify_report_sections(out.fit.result);
   out.sections["estimator"]["sampling_adequacy"] = adequacy_json(out.fit.refinement);
+  if (!out.fit.refinement.starts.empty())
+    out.sections["estimator"]["likelihood_starts"] = likelihood_starts_json(out.fit.refinement.starts);
+  if (!out.fit.input.column.empty()) out.sections["data"]["input"] = recorded_input_json(out.fit.input);
   out.sections["fit"]["in_memory_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
@@ -525,7 +572,9 @@ int run_identify(Config& c, const AppOptions& app) {
   (void)likelihood_settings(c);
   const nlohmann::ordered_json units = units_block(c);
   const auto files = c.path_list("data");
-  LoadedData loaded = load_measurements(c, need_u, app);
+  // an input column is read whenever the files have one: the default library takes it in, and a
+  // given library that leaves it out is warned about (tools/recorded_input.hpp)
+  LoadedData loaded = load_measurements(c, need_u, app, true);
   const std::string& detrend = loaded.detrend;
   std::function<void(const std::string&)> log;
   if (!app.quiet) log = [](const std::string& line) { std::cerr << line << "\n"; };
@@ -549,6 +598,7 @@ int run_identify(Config& c, const AppOptions& app) {
   ds["reading"] = read_summary_json(loaded.summary);
   nlohmann::ordered_json& sections = identified.sections;
   if (!units.empty()) sections["units"] = units;
+  if (sections.contains("data")) ds.update(sections["data"]);  // identify_in_memory's input
   sections["data"] = ds;
   sections["provenance"] = {{"tool", "identify-vehs"}, {"library", library_version()}, {"config", c.json()}};
   std::string figure;
@@ -562,6 +612,8 @@ int run_identify(Config& c, const AppOptions& app) {
               << "autocorrelation " << g(s.rho_k) << " at stride " << s.stride << ", neither about 0 nor about +1/4 "
               << "at the strides tried): quantised values, dropouts, stuck or clipped stretches? the estimates may be "
               << "biased beyond their standard errors\n";
+  if (const RecordedInput& in = identified.fit.input; !in.warning.empty())
+    std::cerr << "warning: " << output << ": " << in.warning << "\n";
   for (const std::string& w : refinement.warnings) std::cerr << "warning: " << output << ": " << w << "\n";
   if (!app.quiet) {
     std::printf("estimator: %s (stride %d; %s)\n", enum_to_string(kEstimatorNames, r.model.fit->estimator).c_str(),

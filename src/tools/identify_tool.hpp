@@ -11,6 +11,7 @@
 #include "tools/app.hpp"
 #include "tools/config.hpp"
 #include "tools/likelihood_refinement.hpp"
+#include "tools/recorded_input.hpp"
 #include "vehs/identify/identify.hpp"
 #include "vehs/identify/study.hpp"
 #include "vehs/io/measurements.hpp"
@@ -31,6 +32,7 @@ identify::StudyOptions study_options(const Config& c);
 struct IdentifyFit {
   identify::Result result;
   Refinement refinement;
+  RecordedInput input;  ///< what was done with the data's input column
 };
 
 /// identify-vehs's fit of loaded (and detrended) data: the config's `samples` range is taken

@@ -123,8 +123,34 @@ void check_input_interpolation(InputInterpolation how, const Dataset& data, bool
                   " samples; record " + std::to_string(r.id) + " of " + r.source + " has " + std::to_string(r.size));
 }
 
+namespace {
+
+/// The start of the full refinement: the best of the brief fits from `model` and `others` (when
+/// there are other moment fits to start from; `model` becomes the chosen moment fit and
+/// out.chosen_candidate its index), else `model` itself.
+likelihood::ObservedModel choose_start(Model& model, const Dataset& data, const likelihood::RefineOptions& o,
+                                       const MomentCandidates& others, Refinement& out) {
+  likelihood::ObservedModel start{model, model.fit ? model.fit->sampling.sensor_noise_sd : 0.0, {}};
+  if (!others) return start;
+  std::vector<MomentCandidate> candidates{{model.fit ? enum_to_string(kEstimatorNames, model.fit->estimator) : "given", model, {}}};
+  for (MomentCandidate& c : others()) candidates.push_back(std::move(c));
+  out.starts = likelihood_starts(candidates, o.estimate_measurement_noise);
+  if (std::count_if(out.starts.begin(), out.starts.end(), [](const LikelihoodStart& s) { return s.status.empty(); }) < 2) {
+    out.starts.clear();  // one start: the single refinement below
+    return start;
+  }
+  std::optional<likelihood::ObservedModel> best = best_start(out.starts, candidates, data, o);
+  if (!best) return start;  // every brief fit failed: the refinement from the given fit says why
+  for (const LikelihoodStart& s : out.starts)
+    if (s.status == "chosen") out.chosen_candidate = s.candidate;
+  model = *candidates[out.chosen_candidate].model;
+  return *best;
+}
+
+}  // namespace
+
 Refinement refine_moment_fit(Model& model, const Dataset& data, const LikelihoodSettings& settings,
-                             const MomentFit& moment_fit) {
+                             const MomentFit& moment_fit, const MomentCandidates& others) {
   Refinement out;
   out.adequacy = likelihood::assess_sampling(model, data);
   const bool use = settings.use == LikelihoodUse::Always ||
@@ -138,10 +164,9 @@ Refinement refine_moment_fit(Model& model, const Dataset& data, const Likelihood
     if (o.log) o.log("likelihood: input " + enum_to_string(kInputInterpolationNames, reading.input) + " (auto: " + reading.reason + ")");
   }
   check_input_interpolation(o.filter.input, data, model.uses_drive(), "likelihood.input");
-  likelihood::ObservedModel start{model, 0.0, {}};
-  if (model.fit) start.measurement_sd = model.fit->sampling.sensor_noise_sd;
   if (o.per_record_phase && !model.find_effect(EffectId::HarmonicForcing))
     throw Error("likelihood.per_record_phase: the model has no harmonic_forcing effect (list it in 'effects')");
+  likelihood::ObservedModel start = choose_start(model, data, o, o.per_record_phase ? MomentCandidates{} : others, out);
   if (o.per_record_phase) likelihood::start_record_phases(start, data, moment_fit, o.filter);
   out.result = likelihood::refine(start, data, o);
   const likelihood::Result& r = *out.result;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tools/config.hpp"
+#include "tools/likelihood_starts.hpp"
 #include "vehs/core/dataset.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/likelihood/adequacy.hpp"
@@ -50,6 +51,9 @@ struct Refinement {
   /// What the user should check ("harmonic_forcing.omega moved from 1.205 in the moment fit to
   /// 49.8": another local maximum of the likelihood is likelier than a forcing 40× faster).
   std::vector<std::string> warnings;
+  /// The starts the likelihood was fitted from briefly (empty: one start, the given moment fit).
+  std::vector<LikelihoodStart> starts;
+  std::size_t chosen_candidate = 0;  ///< 0: the given moment fit; k: the k-th of the other candidates
 };
 
 /// A warning when the likelihood moved harmonic_forcing's ω outside [0.8, 1.25]× the moment
@@ -67,8 +71,13 @@ using MomentFit = std::function<Model(const Dataset&)>;
 /// of records started at unrelated times averages the forcing away): phases per record, the
 /// median amplitude and omega. Throws vehs::Error (one line) for a filter that diverges, an
 /// input the data cannot support, or invalid options.
+///
+/// With `others` (and without per_record_phase) the likelihood has several starts: the given
+/// moment fit and the other moment fits `others` returns (called only when the likelihood runs),
+/// fitted briefly (tools/likelihood_starts.hpp); the full refinement runs from the highest log L,
+/// `model` is that start's moment fit before it is refined, and Refinement::starts lists them all.
 Refinement refine_moment_fit(Model& model, const Dataset& data, const LikelihoodSettings& settings,
-                             const MomentFit& moment_fit = {});
+                             const MomentFit& moment_fit = {}, const MomentCandidates& others = {});
 
 /// Checks that `data` can carry `how`: an interpolated input needs an input column and records
 /// long enough for its stencil (cubic 4, band_limited 16 samples). Throws a one-line vehs::Error

@@ -74,7 +74,7 @@ void require_distinct_columns(const Config& col, const ReadOptions& r, bool need
 
 }  // namespace
 
-ReadOptions read_options(const Config& c, bool need_u) {
+ReadOptions read_options(const Config& c, bool need_u, bool read_present_u) {
   ReadOptions r;
   if (c.has("columns")) {
     if (c.raw("columns").is_array()) {
@@ -102,14 +102,16 @@ ReadOptions read_options(const Config& c, bool need_u) {
       s.fail("on_gap", "must be \"split\" or \"fail\" (got \"" + gap + "\")");
   }
   r.require_u = need_u;
-  r.read_u = need_u;
+  // an input column present in the files is read when asked for, unless it is another role's column
+  const bool u_distinct = r.u_column != r.x_column && r.u_column != r.t_column && r.u_column != r.traj_column;
+  r.read_u = need_u || (read_present_u && u_distinct);
   r.read_y = false;
   r.min_samples = 16;
   return r;
 }
 
-LoadedData load_measurements(const Config& c, bool need_u, const AppOptions& app) {
-  return load_measurements(c, read_options(c, need_u), app.quiet);
+LoadedData load_measurements(const Config& c, bool need_u, const AppOptions& app, bool read_present_u) {
+  return load_measurements(c, read_options(c, need_u, read_present_u), app.quiet);
 }
 
 LoadedData load_measurements(const Config& c, const ReadOptions& options, bool quiet) {

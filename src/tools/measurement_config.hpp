@@ -24,11 +24,13 @@ struct LoadedData {
   std::string detrend;  ///< "none" or "mean"
 };
 
-/// The reader options of a config (`need_u`: the model or dictionary uses the drive).
-ReadOptions read_options(const Config& c, bool need_u);
+/// The reader options of a config (`need_u`: the model or dictionary uses the drive, the files
+/// must have it; `read_present_u`: an input column is read when a file has one, unless it names
+/// another role's column).
+ReadOptions read_options(const Config& c, bool need_u, bool read_present_u = false);
 /// Reads the config's `data` files, prints the reader's warnings on stderr (unless quiet) and
 /// detrends.
-LoadedData load_measurements(const Config& c, bool need_u, const AppOptions& app);
+LoadedData load_measurements(const Config& c, bool need_u, const AppOptions& app, bool read_present_u = false);
 /// The same with explicit reader options (vehs.read: the drive read whenever a file has it).
 LoadedData load_measurements(const Config& c, const ReadOptions& options, bool quiet);
 /// The reading summary for output files: gaps, missing runs, dropped pieces, largest jitter.
