@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "residual_signature.hpp"
+#include "twins.hpp"
 #include "unit_math.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/core/record_phases.hpp"
@@ -155,6 +156,7 @@ PieceScores score_pieces(const Refit& m, const Split& split, InputInterpolation 
     fo.block_samples = longest + 1;  // every piece one block, started from its first sample
     s.trace = likelihood::filter_trace({m.model, m.measurement_sd, phases}, held, fo);
   }
+  const double twin_bound = driven ? detail::twin_divergence_bound(held) : 0.0;
   for (std::size_t p = 0; p < held.records.size(); ++p) {
     const Record& r = held.records[p];
     if (with_filter) {
@@ -171,6 +173,7 @@ PieceScores score_pieces(const Refit& m, const Split& split, InputInterpolation 
     likelihood::FreeRunOptions fr;
     fr.input = input;
     fr.t0 = r.t0;
+    fr.divergence_bound = std::max(fr.divergence_bound, twin_bound);  // in the data's units
     Model run = m.model;
     if (!phases.empty())
       for (Effect& e : run.effects)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 #include <tuple>
@@ -74,8 +75,22 @@ int continuous_twin_substeps(const Model& model, double dt, double x_lo, double 
   return std::isfinite(n) ? static_cast<int>(std::clamp(n, 10.0, 2000.0)) : 10;
 }
 
+double twin_divergence_bound(const Dataset& data) {
+  double extent = 0.0;
+  for (const auto& r : data.records) {
+    const double* x = data.x_of(r);
+    for (std::size_t i = 0; i < r.size; ++i) {
+      extent = std::max(extent, std::abs(x[i]));
+      if (i > 0 && r.dt > 0.0) extent = std::max(extent, std::abs(x[i] - x[i - 1]) / r.dt);
+    }
+  }
+  const double bound = kTwinDivergenceExtents * extent;
+  if (!(bound > 0.0)) return kTwinDivergenceExtents;  // data all zero: the simulator's default
+  return std::min(bound, std::numeric_limits<double>::max());
+}
+
 TwinSimulator::TwinSimulator(const Model& model, const Dataset& data, const TwinSettings& settings)
-    : model_(model), data_(data), settings_(settings) {
+    : model_(model), data_(data), settings_(settings), divergence_bound_(twin_divergence_bound(data)) {
   initial_states(data, settings.smoothing, x0_, y0_);
   harmonic_ = model.find_effect(EffectId::HarmonicForcing) != nullptr;
   if (model.uses_drive() && data.has_u() && settings.input != InputInterpolation::ZeroOrderHold)
@@ -128,6 +143,7 @@ void TwinSimulator::simulate(int rep, Dataset& out) {
     o.sensor_noise = settings_.sensor_noise;
     o.record_y = false;
     o.allow_unconfined = true;  // a divergent model is reported as such by the simulator
+    o.divergence_bound = divergence_bound_;
     o.memory_limit = settings_.memory_limit;
     const bool driven = model_.uses_drive() && data_.has_u();
     Model m = model_;

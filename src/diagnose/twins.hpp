@@ -46,6 +46,13 @@ void initial_states(const Dataset& data, int smoothing, std::vector<double>& x0,
 /// per period was inadequate on its own data in 5 of 10 seeds with 10 substeps, 10 of 10 with 40).
 int continuous_twin_substeps(const Model& model, double dt, double x_lo, double x_hi, double v_lo, double v_hi);
 
+/// |x| or |y| beyond which a twin counts as diverged: kTwinDivergenceExtents times the data's own
+/// extent (the largest |x| of the samples and |Δx|/Δt between them), so that the bound is in the
+/// data's units (the simulator's default of 1e8 stopped data in physical units x1e12 at their
+/// first sample, a bound no key raised).
+constexpr double kTwinDivergenceExtents = 1e8;
+double twin_divergence_bound(const Dataset& data);
+
 class TwinSimulator {
  public:
   TwinSimulator(const Model& model, const Dataset& data, const TwinSettings& settings);
@@ -68,6 +75,7 @@ class TwinSimulator {
   std::vector<double> x0_, y0_;
   std::vector<Group> groups_;
   bool harmonic_ = false;
+  double divergence_bound_ = 1e8;
   int fine_ = 1;  ///< > 1: an interpolated input, simulated on steps of Δt/fine_ (one per step)
   Dataset scratch_;
 };

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "vehs/core/detail/format.hpp"
+#include "vehs/core/diffusion_domain.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/fpk/fpk_model.hpp"
 
@@ -18,6 +19,8 @@ std::string num(double v) { return vehs::detail::format_number(v, 6); }
 
 FpkModel::FpkModel(const Model& model, const std::string& where) : model_(model), where_(where) {
   validate_model(model_, where_);
+  // simulate-vehs's and diagnose-vehs's rule (global; a22 >= 0 on the grid is checked as assembled)
+  if (auto why = diffusion_negative_at_large_x(model_); !why.empty()) throw Error(where_ + ": " + why);
   for (const auto& tc : model_.drift) {
     if (tc.term.depends_on_u() && tc.coef != 0.0)
       throw Error(where_ + ": drift term 'u' (a recorded drive) makes the process time-dependent; "

@@ -13,6 +13,7 @@
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/parallel.hpp"
 #include "vehs/core/detail/memory.hpp"
+#include "vehs/core/diffusion_domain.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/sim/simd.hpp"
 
@@ -29,6 +30,12 @@ bool all_finite(const std::vector<double>& v) {
   for (double d : v)
     if (!std::isfinite(d)) return false;
   return true;
+}
+
+double largest_magnitude(const std::vector<double>& v) {
+  double m = 0.0;
+  for (double d : v) m = std::max(m, std::abs(d));
+  return m;
 }
 
 }  // namespace
@@ -64,6 +71,18 @@ std::string SimulationOptions::invalid_reason() const {
     return "sensor_noise must be >= 0 (got " + num(sensor_noise) + ")";
   if (!(burn_in >= 0.0) || !std::isfinite(burn_in)) return "burn_in must be >= 0 (got " + num(burn_in) + ")";
   if (!(divergence_bound > 0.0)) return "divergence_bound must be > 0";
+  // a record starting beyond the bound would count as diverged at its first step (and a state
+  // near the largest double overflows every term of the model)
+  const double x_most = x0.uniform ? std::max(std::abs(x0.lo), std::abs(x0.hi)) : largest_magnitude(x0.values);
+  if (x_most > divergence_bound)
+    return "x0 = " + num(x_most) + " lies beyond divergence_bound = " + num(divergence_bound) +
+           ": a record starting there counts as diverged (start nearer 0 or raise divergence_bound)";
+  const double y_most = !x0.y_values.empty() ? largest_magnitude(x0.y_values)
+                        : x0.y_uniform       ? std::max(std::abs(x0.y_lo), std::abs(x0.y_hi))
+                                             : std::abs(x0.y0);
+  if (y_most > divergence_bound)
+    return "y0 = " + num(y_most) + " lies beyond divergence_bound = " + num(divergence_bound) +
+           ": a record starting there counts as diverged (start nearer 0 or raise divergence_bound)";
   if (!drive.empty() && !drive_per_record.empty()) return "give either drive or drive_per_record";
   if (!drive_per_record.empty() && drive_per_record.size() != static_cast<std::size_t>(records))
     return "drive_per_record needs one series per record";
@@ -91,15 +110,9 @@ void check_simulation(const Model& model, const SimulationOptions& o, const std:
   validate_model(model, where + ": model");
   const CompiledModel cm = CompiledModel::from_model(model, where + ": model");
 
-  // diffusion: a22 >= 0 where records start and beyond, and for large |x|
-  const XPolynomial a_at_y0 = cm.diffusion.by_ypow.empty() ? XPolynomial{} : cm.diffusion.by_ypow[0];
-  if (!a_at_y0.empty()) {
-    const int d = a_at_y0.degree();
-    const double c = a_at_y0.leading_coefficient();
-    if (d % 2 == 1 || c < 0.0)
-      throw Error(where + ": model diffusion a22(x, 0) has leading term " + num(c) + "·x^" +
-                  std::to_string(d) + " and becomes negative for large |x| (a22 is a variance rate)");
-  }
+  // diffusion: a22 >= 0 for large |x| (the rule fpk-stationary applies too), and where records
+  // start and beyond
+  if (auto why = diffusion_negative_at_large_x(model); !why.empty()) throw Error(where + ": model " + why);
   double x_extent = 1.5;
   if (o.x0.uniform)
     x_extent = std::max({x_extent, std::abs(o.x0.lo), std::abs(o.x0.hi)});
@@ -113,6 +126,9 @@ void check_simulation(const Model& model, const SimulationOptions& o, const std:
       const double x = 2.0 * x_extent * (2.0 * i / n - 1.0);
       const double y = 2.0 * y_extent * (2.0 * j / n - 1.0);
       const double a = cm.diffusion.eval(x, y);
+      if (!std::isfinite(a))
+        throw Error(where + ": model diffusion a22(" + num(x) + ", " + num(y) + ") = " + num(a) +
+                    " overflows: initial states x0, y0 this far out are beyond what the model's terms can evaluate");
       if (!(a >= 0.0))
         throw Error(where + ": model diffusion a22(" + num(x) + ", " + num(y) + ") = " + num(a) +
                     " is negative (a22 is a variance rate and must be >= 0)");

@@ -1,6 +1,7 @@
 #include "tools/app.hpp"
 
 #include <algorithm>
+#include <csignal>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -46,10 +47,10 @@ int run_app(int argc, char** argv, const ConfigSchema& schema,
           "INT in [0, 1024]"));
   app.add_flag("--quiet,-q", options.quiet, "no progress reports on stderr");
   app.set_version_flag("--version", schema.tool + " (" + library_version() + ")");
-  // a boolean key fail_on_<x> is also the flag --fail-on-<x>
+  // a boolean key fail_on_<x> is also the flag --fail-on-<x>, and the key force the flag --force
   std::vector<std::string> flag_keys;
   for (const auto& k : schema.keys)
-    if (k.name.rfind("fail_on_", 0) == 0) flag_keys.push_back(k.name);
+    if (k.name.rfind("fail_on_", 0) == 0 || k.name == "force") flag_keys.push_back(k.name);
   std::vector<char> flag_set(flag_keys.size(), 0);  // (vector<bool> has no element references)
   for (std::size_t i = 0; i < flag_keys.size(); ++i) {
     std::string flag = "--" + flag_keys[i];
@@ -67,6 +68,9 @@ int run_app(int argc, char** argv, const ConfigSchema& schema,
   }
   if (!options.quiet) options.progress = terminal_progress();
   install_signal_cleanup(schema.tool.c_str());
+  // a reader that stops early (tool ... | head -1) makes writes to stdout fail with EPIPE
+  // instead of killing the tool: its files are still written and it exits normally
+  std::signal(SIGPIPE, SIG_IGN);
   try {
     set_threads(options.threads);
     Config config = Config::load(config_path, schema);

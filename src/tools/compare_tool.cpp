@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 #include <set>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -32,14 +33,28 @@ ConfigSchema make_schema() {
            {"fpk", "path", "statistics JSON written by fpk-stationary", "", true},
            {"monte_carlo", "path", "statistics JSON of simulate-vehs (with stderr)", "", true},
            {"output", "path", "also write the parameter table as CSV here", "", true}},
+          "dev/se, rel.err and the FPK - Monte Carlo difference show \"overflow\" where the ratio exceeds the "
+          "largest double (a standard error or true value near zero).\n"
           "Example: vehs-compare data/paper/compare.json"};
 }
+
+/// The marker printed for a ratio beyond the largest double (documented in --help).
+constexpr const char* kOverflow = "overflow";
 
 double stat(const nlohmann::json& j, const std::string& key, const std::string& file) {
   if (!j.contains(key) || !j[key].is_number()) throw Error(file + ": no number '" + key + "'");
   const double v = j[key].get<double>();
   if (!std::isfinite(v)) throw Error(file + ": '" + key + "' is not finite");
   return v;
+}
+
+/// A ratio formatted by `format`, or kOverflow where it is not a finite double (a standard error
+/// or a true value near the smallest double: 1e308 / 1e-300).
+std::string ratio_text(double ratio, const char* format) {
+  if (!std::isfinite(ratio)) return kOverflow;
+  char text[64];
+  std::snprintf(text, sizeof text, format, ratio);
+  return text;
 }
 
 bool same_terms(const TermList& a, const TermList& b) {
@@ -193,13 +208,13 @@ int run_compare(Config& c, const AppOptions&) {
       std::snprintf(learned_text, sizeof learned_text, "%.6g", lv);
     else
       std::snprintf(learned_text, sizeof learned_text, "(not selected)");
-    char dev[32] = "", rel[32] = "";
-    if (truth && has && se > 0) std::snprintf(dev, sizeof dev, "%+.2f", (lv - tv) / se);
-    if (truth && tv != 0.0) std::snprintf(rel, sizeof rel, "%+.2f%%", 100.0 * (lv - tv) / std::abs(tv));
+    std::string dev, rel;
+    if (truth && has && se > 0) dev = ratio_text((lv - tv) / se, "%+.2f");
+    if (truth && tv != 0.0) rel = ratio_text(100.0 * (lv - tv) / std::abs(tv), "%+.2f%%");
     char tvs[32] = "", rvs[32] = "";
     if (truth) std::snprintf(tvs, sizeof tvs, "%.6g", tv);
     if (reported) std::snprintf(rvs, sizeof rvs, "%.6g", rv);
-    std::printf("%-16s %11s %11s %24s %10s %9s\n", n.c_str(), tvs, rvs, learned_text, dev, rel);
+    std::printf("%-16s %11s %11s %24s %10s %9s\n", n.c_str(), tvs, rvs, learned_text, dev.c_str(), rel.c_str());
     table.add_row(n, {tv, rv, has ? lv : NAN, se});
   }
   if (truth) {
@@ -236,7 +251,7 @@ int run_compare(Config& c, const AppOptions&) {
         else
           std::printf("   Monte Carlo%s %.6f (no standard error)", of.c_str(), v);
         if (c.has("fpk") && se > 0 && mc_owner == "learned")
-          std::printf("   (difference %+.2f se)", (stat(fpk, key, c.string("fpk")) - v) / se);
+          std::printf("   (difference %s se)", ratio_text((stat(fpk, key, c.string("fpk")) - v) / se, "%+.2f").c_str());
       }
       std::printf("\n");
     }

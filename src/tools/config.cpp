@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 #include <unistd.h>
 
@@ -171,14 +173,27 @@ double Config::non_negative_or(const std::string& key, double fallback) const {
   return d;
 }
 
-long long Config::integer(const std::string& key) const {
-  const auto& v = raw(key);
+std::optional<long long> json_integer(const nlohmann::json& v) {
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<std::uint64_t>();
+    if (u > static_cast<std::uint64_t>(std::numeric_limits<long long>::max())) return std::nullopt;
+    return static_cast<long long>(u);
+  }
   if (v.is_number_integer()) return v.get<long long>();
   if (v.is_number_float()) {
     const double d = v.get<double>();
-    if (std::isfinite(d) && d == std::floor(d) && std::abs(d) < 9e15)
-      return static_cast<long long>(d);
+    // 2^63 and above do not fit; below that every integral double converts exactly
+    if (std::isfinite(d) && d == std::floor(d) && std::abs(d) < 9.2e18) return static_cast<long long>(d);
   }
+  return std::nullopt;
+}
+
+long long Config::integer(const std::string& key) const {
+  const auto& v = raw(key);
+  if (const auto n = json_integer(v)) return *n;
+  if (v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() == std::floor(v.get<double>()))
+    fail(key, std::string(v.get<double>() > 0 ? "is too large" : "is too small") + " (got " + type_name(v) +
+                  "; an integer here lies within +-" + std::to_string(std::numeric_limits<long long>::max()) + ")");
   fail(key, "must be an integer (got " + type_name(v) + ")");
 }
 
@@ -188,10 +203,20 @@ long long Config::integer_or(const std::string& key, long long fallback) const {
 
 long long Config::integer_at_least(const std::string& key, long long min,
                                    long long fallback) const {
+  return integer_in(key, min, std::numeric_limits<long long>::max(), fallback);
+}
+
+long long Config::integer_in(const std::string& key, long long min, long long max,
+                             long long fallback) const {
   if (!has(key)) return fallback;
   const long long v = integer(key);
   if (v < min) fail(key, "must be >= " + std::to_string(min) + " (got " + std::to_string(v) + ")");
+  if (v > max) fail(key, "must be at most " + std::to_string(max) + " (got " + std::to_string(v) + ")");
   return v;
+}
+
+int Config::int_at_least(const std::string& key, int min, int fallback) const {
+  return static_cast<int>(integer_in(key, min, std::numeric_limits<int>::max(), fallback));
 }
 
 bool Config::boolean_or(const std::string& key, bool fallback) const {

@@ -34,6 +34,10 @@ ConfigSchema with_keys_after(const std::string& after, const std::vector<KeySpec
 
 /// A view of one JSON object of a config file, remembering where it came from so that every
 /// error names the file and the key path ("sim.json: 'grid.x' must be [min, max, n]").
+/// The value of a JSON integer (or of a float with an integral value) when it fits a long long;
+/// nullopt for anything else (2.5, 1e30, 2^64 - 1, a string).
+std::optional<long long> json_integer(const nlohmann::json& v);
+
 class Config {
  public:
   Config(nlohmann::json value, std::string file, std::string path = "");
@@ -59,6 +63,11 @@ class Config {
   long long integer(const std::string& key) const;
   long long integer_or(const std::string& key, long long fallback) const;
   long long integer_at_least(const std::string& key, long long min, long long fallback) const;
+  /// An integer in [min, max] (`fallback` when absent); values outside are refused, never
+  /// narrowed ("must be at most max (got v)").
+  long long integer_in(const std::string& key, long long min, long long max, long long fallback) const;
+  /// An integer >= min that fits an int (a count or size narrowed to int by the caller's options).
+  int int_at_least(const std::string& key, int min, int fallback) const;
   bool boolean_or(const std::string& key, bool fallback) const;
   std::string string(const std::string& key) const;
   std::string string_or(const std::string& key, const std::string& fallback) const;

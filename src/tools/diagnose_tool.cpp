@@ -156,17 +156,17 @@ void keep_version_page(const std::string& html, const std::string& folder, int v
 diagnose::Options diagnose_options(const Config& c) {
   Options o;
   o.seed = static_cast<std::uint64_t>(c.integer_at_least("seed", 0, 1));
-  o.replicates = static_cast<int>(c.integer_at_least("replicates", 0, 0));
+  o.replicates = c.int_at_least("replicates", 0, 0);
   if (o.replicates > 1000) c.fail("replicates", "must be <= 1000");
   if (c.has("bins")) {
     const Config b = c.object("bins", {"x", "v"});
-    o.map_bins_x = static_cast<int>(b.integer_at_least("x", 2, 16));
-    o.map_bins_v = static_cast<int>(b.integer_at_least("v", 2, 16));
+    o.map_bins_x = b.int_at_least("x", 2, 16);
+    o.map_bins_v = b.int_at_least("v", 2, 16);
     if (o.map_bins_x > 200 || o.map_bins_v > 200) c.fail("bins", "at most 200 per axis");
   }
   o.min_bin_count = c.positive_or("min_bin_count", 200);
   if (o.min_bin_count < 10) c.fail("min_bin_count", "must be >= 10");
-  o.min_units = static_cast<int>(c.integer_at_least("min_units", 4, 32));
+  o.min_units = c.int_at_least("min_units", 4, 32);
   o.suspects.holdout = c.positive_or("holdout", 0.3);
   if (!(o.suspects.holdout > 0.05 && o.suspects.holdout < 0.95)) c.fail("holdout", "must be in (0.05, 0.95)");
   if (c.has("suspects")) {
@@ -178,7 +178,7 @@ diagnose::Options diagnose_options(const Config& c) {
       o.suspects.enabled = s.boolean_or("enabled", true);
       o.suspects.confirm = s.boolean_or("confirm", true);
       o.suspects.z_threshold = s.positive_or("z_threshold", 3.0);
-      o.suspects.min_blocks = static_cast<int>(s.integer_at_least("min_blocks", 2, 20));
+      o.suspects.min_blocks = s.int_at_least("min_blocks", 2, 20);
       if (s.has("effects"))
         for (const auto& name : s.string_list("effects"))
           o.suspects.only.push_back(enum_from_string(kEffectNames, name, s.where("effects")));
@@ -195,7 +195,7 @@ diagnose::Options diagnose_options(const Config& c) {
     } else if (v.is_object()) {
       const Config s = c.object("score_suspects", {"enabled", "grid", "max_samples", "forcing_band"});
       o.score_suspects.enabled = s.boolean_or("enabled", true);
-      o.score_suspects.grid = static_cast<int>(s.integer_at_least("grid", 1, 6));
+      o.score_suspects.grid = s.int_at_least("grid", 1, 6);
       if (o.score_suspects.grid > 64) s.fail("grid", "must be <= 64");
       o.score_suspects.max_samples = s.non_negative_or("max_samples", 2.5e5);
       o.score_suspects.forcing_band = s.positive_or("forcing_band", 6.0);
@@ -213,11 +213,11 @@ diagnose::Options diagnose_options(const Config& c) {
                                             "max_samples", "max_effects"});
       o.confirm.enabled = s.boolean_or("enabled", true);
       o.confirm.holdout = s.positive_or("holdout", 0.3);
-      o.confirm.blocks = static_cast<int>(s.integer_at_least("blocks", 3, 8));
+      o.confirm.blocks = s.int_at_least("blocks", 3, 8);
       o.confirm.z_threshold = s.positive_or("z_threshold", 2.0);
       o.confirm.consistency_margin = s.positive_or("consistency_margin", 2.5);
       o.confirm.max_samples = s.non_negative_or("max_samples", 2.5e5);
-      o.confirm.max_effects = static_cast<int>(s.integer_at_least("max_effects", 1, 8));
+      o.confirm.max_effects = s.int_at_least("max_effects", 1, 8);
       if (auto why = o.confirm.invalid_reason(); !why.empty()) c.fail("confirm", why);
     } else {
       c.fail("confirm", "must be true, false or an object");
@@ -226,21 +226,21 @@ diagnose::Options diagnose_options(const Config& c) {
   o.alpha = c.positive_or("alpha", 0.01);
   if (!(o.alpha < 0.5)) c.fail("alpha", "must be in (0, 0.5)");
   o.lens = enum_from_string(kLensNames, c.string_or("lens", "auto"), c.where("lens"));
-  o.stride = static_cast<int>(c.integer_at_least("stride", 0, 0));
+  o.stride = c.int_at_least("stride", 0, 0);
   if (c.has("sensor_noise")) o.sensor_noise = c.non_negative_or("sensor_noise", 0.0);
   const std::string scheme = c.string_or("twin_scheme", "auto");
   if (scheme != "auto") {
     o.twin_scheme_auto = false;
     o.twin_scheme = enum_from_string(sim::kSchemeNames, scheme, c.where("twin_scheme") + " (or auto)");
   }
-  o.twin_substeps = static_cast<int>(c.integer_at_least("twin_substeps", 0, 0));
-  o.residual_lags = static_cast<int>(c.integer_at_least("residual_lags", 1, 64));
+  o.twin_substeps = c.int_at_least("twin_substeps", 0, 0);
+  o.residual_lags = c.int_at_least("residual_lags", 1, 64);
   o.parameter_uncertainty = enum_from_string(kParameterUncertaintyNames, c.string_or("parameter_uncertainty", "auto"),
                                              c.where("parameter_uncertainty"));
-  o.parameter_draws = static_cast<int>(c.integer_at_least("parameter_draws", 2, 8));
+  o.parameter_draws = c.int_at_least("parameter_draws", 2, 8);
   o.parameter_fit_samples = c.positive_or("parameter_fit_samples", 2e6);
   o.fpk = c.boolean_or("fpk", true);
-  o.fpk_cells = static_cast<int>(c.integer_at_least("fpk_cells", 20, 160));
+  o.fpk_cells = c.int_at_least("fpk_cells", 20, 160);
   o.check_model_sampling = c.boolean_or("check_model_sampling", true);
   if (c.has("dt")) o.expected_dt = c.positive("dt");
   if (auto why = o.invalid_reason(); !why.empty()) throw Error(c.file() + ": " + why);

@@ -3,7 +3,9 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 
+#include "tools/budget.hpp"
 #include "tools/fpk_output.hpp"
 #include "tools/power.hpp"
 #include "vehs/conventions.hpp"
@@ -88,6 +90,7 @@ ConfigSchema make_schema() {
                           "envelope of all points' ranges) and one symbolic factorisation; points run "
                           "in parallel (--threads).", "", true},
       {"sweep_table", "path", "CSV of the sweep, one row per point.", "<output stem>.sweep.csv"},
+      force_key(),
   };
   s.epilog =
       "Example: {\"model\": \"learned.json\", \"output\": \"out/fpk.json\", \"figures\": \"out/fig\"}\n"
@@ -127,11 +130,11 @@ GridRequest parse_grid(const Config& cfg) {
                v[2].is_number_integer()) {
       a.min = v[0].get<double>();
       a.max = v[1].get<double>();
-      const long long n = v[2].get<long long>();
+      const long long n = json_integer(v[2]).value_or(-1);
       if (!(std::isfinite(a.min) && std::isfinite(a.max) && a.min < a.max))
         g.fail(ax, "needs min < max (got [" + json_excerpt(v[0]) + ", " + json_excerpt(v[1]) + "])");
       if (n < 3 || n > kMaxCellsPerAxis)
-        g.fail(ax, "must have from 3 to " + std::to_string(kMaxCellsPerAxis) + " cells (got " + std::to_string(n) + ")");
+        g.fail(ax, "must have from 3 to " + std::to_string(kMaxCellsPerAxis) + " cells (got " + json_excerpt(v[2]) + ")");
       a.n = static_cast<int>(n);
       automatic = false;
     } else {
@@ -150,9 +153,10 @@ std::vector<SweepAxis> parse_sweep(const Config& cfg) {
     const auto& v = it.value();
     if (v.is_array() && v.size() == 3 && v[0].is_number() && v[1].is_number() && v[2].is_number_integer()) {
       const double lo = v[0].get<double>(), hi = v[1].get<double>();
-      const int n = v[2].get<int>();
-      if (n < 1 || n > 100000) s.fail(a.name, "needs 1 <= n <= 100000");
-      for (int k = 0; k < n; ++k) a.values.push_back(n == 1 ? lo : lo + (hi - lo) * k / (n - 1));
+      const long long n = json_integer(v[2]).value_or(-1);
+      if (n < 1 || n > 100000) s.fail(a.name, "needs 1 <= n <= 100000 (got " + json_excerpt(v[2]) + ")");
+      for (long long k = 0; k < n; ++k)
+        a.values.push_back(n == 1 ? lo : lo + (hi - lo) * static_cast<double>(k) / static_cast<double>(n - 1));
     } else if (v.is_object() && v.size() == 1 && v.contains("values") && v["values"].is_array() &&
                !v["values"].empty()) {
       for (const auto& x : v["values"]) {
@@ -168,6 +172,33 @@ std::vector<SweepAxis> parse_sweep(const Config& cfg) {
   return axes;
 }
 
+/// Work, memory and output of the solves (docs/config.md, Budgets).
+std::vector<Estimate> fpk_estimates(const Config& cfg, const FpkSettings& st) {
+  const double cells = static_cast<double>(st.grid.grid.x.n) * static_cast<double>(st.grid.grid.y.n);
+  double solves = 1.0;  // the model itself, then every sweep point
+  if (!st.axes.empty()) {
+    double points = 1.0;
+    for (const auto& a : st.axes) points *= static_cast<double>(a.values.size());
+    solves += points;
+  }
+  const std::string sizes = "(" + vehs::detail::format_number(cells, 6) + " cells x " +
+                            vehs::detail::format_number(solves, 6) + " solves)";
+  std::vector<Estimate> out;
+  if (st.solve.solver == Solver::Direct)
+    out.push_back({Resource::CellSolves, cells * solves, "cell solves " + sizes, "use fewer grid cells or sweep points"});
+  if (st.solve.solver == Solver::Bicgstab)
+    out.push_back({Resource::Steps, cells * solves * st.solve.iterative.max_iterations,
+                   "cell updates (iterative.max_iterations " + std::to_string(st.solve.iterative.max_iterations) + " x " +
+                       sizes.substr(1),
+                   "use fewer grid cells, sweep points or iterative.max_iterations, or the direct solver"});
+  out.push_back({Resource::Memory, estimated_solve_bytes(static_cast<std::size_t>(cells), st.solve),
+                 "per solve (" + vehs::detail::format_number(cells, 6) + " cells)", "use fewer grid cells"});
+  const bool npy = std::filesystem::path(cfg.string_or("density", "")).extension() == ".npy";
+  out.push_back({Resource::Output, cells * (npy ? 8.0 : 40.0), "of density (" + vehs::detail::format_number(cells, 6) + " cells)",
+                 "use fewer grid cells or a .npy density"});
+  return out;
+}
+
 }  // namespace
 
 const ConfigSchema& fpk_schema() {
@@ -181,7 +212,7 @@ FpkSettings fpk_settings(const Config& cfg) {
   opt.scheme = enum_from_string(kSchemeNames, cfg.string_or("scheme", "flux"), cfg.where("scheme"));
   opt.solver = enum_from_string(kSolverNames, cfg.string_or("solver", "direct"), cfg.where("solver"));
   opt.ordering = enum_from_string(kOrderingNames, cfg.string_or("ordering", "auto"), cfg.where("ordering"));
-  opt.correction_steps = static_cast<int>(cfg.integer_at_least("correction_steps", 0, opt.correction_steps));
+  opt.correction_steps = cfg.int_at_least("correction_steps", 0, opt.correction_steps);
   // settings of a solver that is not used would be ignored silently
   if (cfg.has("sor") && opt.solver != Solver::Sor) cfg.fail("sor", "is given but 'solver' is not \"sor\"");
   if (cfg.has("iterative") && opt.solver != Solver::Bicgstab)
@@ -191,14 +222,14 @@ FpkSettings fpk_settings(const Config& cfg) {
     opt.sor.alpha = s.positive_or("alpha", opt.sor.alpha);
     opt.sor.tolerance = s.positive_or("tolerance", opt.sor.tolerance);
     opt.sor.max_iterations = s.integer_at_least("max_iterations", 1, opt.sor.max_iterations);
-    opt.sor.normalize_every = static_cast<int>(s.integer_at_least("normalize_every", 1, opt.sor.normalize_every));
+    opt.sor.normalize_every = s.int_at_least("normalize_every", 1, opt.sor.normalize_every);
   }
   if (cfg.has("iterative")) {
     const Config s = cfg.object("iterative", {"tolerance", "max_iterations", "drop_tolerance", "fill_factor"});
     opt.iterative.tolerance = s.positive_or("tolerance", opt.iterative.tolerance);
-    opt.iterative.max_iterations = static_cast<int>(s.integer_at_least("max_iterations", 1, opt.iterative.max_iterations));
+    opt.iterative.max_iterations = s.int_at_least("max_iterations", 1, opt.iterative.max_iterations);
     opt.iterative.drop_tolerance = s.non_negative_or("drop_tolerance", opt.iterative.drop_tolerance);
-    opt.iterative.fill_factor = static_cast<int>(s.integer_at_least("fill_factor", 1, opt.iterative.fill_factor));
+    opt.iterative.fill_factor = s.int_at_least("fill_factor", 1, opt.iterative.fill_factor);
   }
   if (auto why = opt.invalid_reason(); !why.empty()) throw Error(cfg.file() + ": " + why);
   DomainOptions& dom = st.domain;
@@ -219,6 +250,8 @@ FpkSettings fpk_settings(const Config& cfg) {
                    (req.grid.x.n * static_cast<double>(req.grid.y.n)))) + " or less, or use the direct solver");
   }
   if (cfg.has("sweep")) st.axes = parse_sweep(cfg);  // parse and check before the long solve
+  check_budget(cfg, fpk_estimates(cfg, st));
+  if (forced(cfg)) st.solve.memory_limit = std::numeric_limits<double>::infinity();
   return st;
 }
 

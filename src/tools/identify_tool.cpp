@@ -23,6 +23,7 @@
 #include "tools/identify_figures.hpp"
 #include "tools/measurement_config.hpp"
 #include "tools/recorded_input.hpp"
+#include "tools/budget.hpp"
 #include "tools/study_output.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/identify/dynamic.hpp"
@@ -280,6 +281,7 @@ const ConfigSchema& identify_schema() {
            "0}. Prints the paper's Table 4 layout, writes JSON and CSV, and reports the coverage "
            "of the nominal 95 % intervals.",
            "", true},
+          force_key(),
       },
       "Outputs: the model file holds drift, diffusion, stderr, covariance (of the estimates: "
       "parameter names and matrix) and the extra keys units, estimator, sampling (how the data "
@@ -330,7 +332,7 @@ identify::Options identify_options(const Config& c) {
                            "_library')");
   }
   o.estimator = enum_from_string(kEstimatorNames, moment_estimator_name(c), c.where("estimator"));
-  o.stride = static_cast<int>(c.integer_at_least("stride", 0, 0));
+  o.stride = c.int_at_least("stride", 0, 0);
   o.discretization_correction = c.boolean_or("discretization_correction", true);
   o.sparsity = enum_from_string(kSparsityNames, c.string_or("sparsity", "ssr"), c.where("sparsity"));
   if (c.has("ssr_rule")) {
@@ -338,7 +340,7 @@ identify::Options identify_options(const Config& c) {
     o.ssr_rule_set = true;
   }
   o.criterion = enum_from_string(kCriterionNames, c.string_or("criterion", "bic"), c.where("criterion"));
-  o.folds = static_cast<int>(c.integer_at_least("folds", 1, 10));
+  o.folds = c.int_at_least("folds", 1, 10);
   if (o.folds > 1000) c.fail("folds", "must be at most 1000 (got " + std::to_string(o.folds) + ")");
   o.stlsq_threshold = c.non_negative_or("stlsq_threshold", 0.05);
   // settings of a sparsity rule that is not used would be ignored silently
@@ -370,10 +372,10 @@ identify::StudyOptions study_options(const Config& c) {
       if (n != std::floor(n) || n < 100) s.fail("samples", "must be integers >= 100");
       o.points.push_back({dt, static_cast<std::size_t>(n)});
     }
-  o.repeats = static_cast<int>(s.integer_at_least("repeats", 2, 10));
-  o.records = static_cast<int>(s.integer_at_least("records", 1, 10));
+  o.repeats = s.int_at_least("repeats", 2, 10);
+  o.records = s.int_at_least("records", 1, 10);
   o.scheme = enum_from_string(sim::kSchemeNames, s.string_or("scheme", "rk4_euler"), s.where("scheme"));
-  o.substeps = static_cast<int>(s.integer_at_least("substeps", 1, 1));
+  o.substeps = s.int_at_least("substeps", 1, 1);
   o.x0 = parse_x0(s, "x0", o.records);
   o.seed = static_cast<std::uint64_t>(s.integer_at_least("seed", 0, 1));
   o.sensor_noise = s.non_negative_or("sensor_noise", 0.0);
@@ -550,10 +552,38 @@ IdentifiedInMemory identify_in_memory(const Config& c, const Dataset& data, cons
   return out;
 }
 
+namespace {
+
+/// Operations of one regression on `rows` rows: the Gram matrix (rows x terms^2) and the
+/// selection (up to `terms` eliminations of a terms^3 solve).
+double regression_operations(double rows, const identify::Options& o) {
+  const double terms = static_cast<double>(o.drift_library.size() + o.diffusion_library.size());
+  return rows * terms * terms + terms * terms * terms * terms;
+}
+
+const char* const kLowerRegression = "use a smaller drift_library or diffusion_library, or less data";
+
+/// Simulation steps and regression operations of a study (docs/config.md, Budgets).
+std::vector<Estimate> study_estimates(const StudyOptions& so) {
+  double steps = 0.0, operations = 0.0;
+  for (const auto& p : so.points) {
+    const double samples = static_cast<double>(p.samples);
+    steps += double(so.repeats) * so.records * (samples + std::round(so.burn_in / p.dt)) * so.substeps;
+    operations += double(so.repeats) * regression_operations(double(so.records) * samples, so.identify);
+  }
+  return {{Resource::Steps, steps, "integration steps (study: repeats x records x samples x substeps)",
+           "use fewer repeats, records or samples"},
+          {Resource::Steps, operations, "regression operations (study: repeats x rows x terms^2)",
+           "use fewer repeats, records or samples, or a smaller library"}};
+}
+
+}  // namespace
+
 int run_identify(Config& c, const AppOptions& app) {
   const std::string output = c.path("output");
   if (c.has("study")) {
     StudyOptions so = study_options(c);
+    check_budget(c, study_estimates(so));
     so.progress = app.progress;
     const StudyResult r = run_study(so);
     nlohmann::ordered_json j = study_to_json(r);
@@ -575,6 +605,14 @@ int run_identify(Config& c, const AppOptions& app) {
   // an input column is read whenever the files have one: the default library takes it in, and a
   // given library that leaves it out is warned about (tools/recorded_input.hpp)
   LoadedData loaded = load_measurements(c, need_u, app, true);
+  {  // the library's size against the data's, before any fitting
+    const double rows = static_cast<double>(loaded.data.total_samples());
+    const identify::Options o = identify_options(c);
+    const std::size_t terms = o.drift_library.size() + o.diffusion_library.size();
+    check_budget(c, {{Resource::Steps, regression_operations(rows, o),
+                      "regression operations (" + g(rows) + " rows x " + std::to_string(terms) + " library terms^2 + terms^4)",
+                      kLowerRegression}});
+  }
   const std::string& detrend = loaded.detrend;
   std::function<void(const std::string&)> log;
   if (!app.quiet) log = [](const std::string& line) { std::cerr << line << "\n"; };

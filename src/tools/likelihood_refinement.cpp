@@ -94,7 +94,7 @@ LikelihoodSettings likelihood_settings(const Config& c) {
   const long long sub = l.integer_at_least("substeps", 0, 0);
   if (sub > 1000) l.fail("substeps", "must be <= 1000");
   o.filter.substeps = static_cast<int>(sub);
-  o.max_rounds = static_cast<int>(l.integer_at_least("max_rounds", 1, 20));
+  o.max_rounds = l.int_at_least("max_rounds", 1, 20);
   if (l.has("bias_correction") && !(l.raw("bias_correction").is_string() && l.string("bias_correction") == "auto")) {
     if (l.raw("bias_correction").is_string())
       l.fail("bias_correction", "must be \"auto\" or an integer B in [0, 1000] (got \"" + l.string("bias_correction") + "\")");

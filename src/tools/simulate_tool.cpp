@@ -3,12 +3,15 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
+#include "tools/budget.hpp"
 #include "tools/statistics_file.hpp"
 #include "tools/validation.hpp"
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/core/parallel.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/io/measurements.hpp"
 #include "vehs/io/model_file.hpp"
@@ -91,7 +94,7 @@ const ConfigSchema& simulate_schema() {
            "0", false},
           {"divergence_bound", "number > 0",
            "A record whose |x| or |y| exceeds this (or becomes non-finite) stops the run with an "
-           "error naming it.",
+           "error naming it; x0 and y0 must lie within it.",
            "1e8", false},
           {"allow_unconfined", "bool",
            "Simulate even when the potential does not confine (leading power of the restoring "
@@ -100,6 +103,7 @@ const ConfigSchema& simulate_schema() {
           {"summary", "path", "JSON report of the run (sizes, scheme, time, steps per second).", "",
            true},
           {"validate", "object", kValidateHelp, "", true},
+          force_key(),
           {"record_phases", "[phase per trajectory]",
            "harmonic_forcing with one phase per record (records started at unrelated times; "
            "amplitude and omega shared): one phase per trajectory. Default: the model file's "
@@ -182,6 +186,43 @@ void assign_drive(const Config& c, const std::string& name, std::vector<std::vec
 
 }  // namespace
 
+namespace {
+
+/// Steps, memory and output of a simulation job (docs/config.md, Budgets).
+std::vector<Estimate> simulate_estimates(const SimulateJob& job) {
+  const SimulationOptions& o = job.options;
+  const double records = o.records, samples = static_cast<double>(o.samples);
+  const double burn = std::round(o.burn_in / o.dt);
+  const bool driven = !o.drive.empty() || !o.drive_per_record.empty();
+  const double columns = 1.0 + (o.record_y ? 1.0 : 0.0) + (driven ? 1.0 : 0.0);
+  const double values = records * samples * columns;  // the records, kept in memory to be written
+  const bool keep = !job.output.empty() || !job.with_statistics;
+  double memory = records * 24.0 + (keep ? values * 8.0 : 0.0);  // (initial states per record)
+  double output = 0.0;
+  if (!job.output.empty())
+    output += std::filesystem::path(job.output).extension() == ".npy" ? records * samples * (columns + 2.0) * 8.0
+                                                                       : records * samples * (12.0 + 20.0 * columns);
+  if (job.with_statistics) {
+    const StatisticsOptions& st = job.statistics;
+    memory += records * 7.0 * static_cast<double>(st.batches) * 8.0;  // batch sums per record
+    if (st.histograms) {
+      const double cells = static_cast<double>(st.nx) * static_cast<double>(st.ny);
+      memory += cells * 8.0 * std::max(1, max_threads());
+      output += cells * 40.0;
+    }
+  }
+  const std::string sizes = "(" + num(records) + " records x " + num(samples) + " samples";
+  return {{Resource::Steps, records * (samples - 1.0 + burn) * o.substeps,
+           "integration steps (" + num(records) + " records x " +
+               (burn > 0 ? "(" + num(samples) + " samples + " + num(burn) + " of burn_in)" : num(samples) + " samples") +
+               " x " + std::to_string(o.substeps) + " substeps)",
+           "use fewer trajectories, a shorter duration or burn_in, fewer substeps or a larger dt"},
+          {Resource::Memory, memory, sizes + ")", "use fewer or shorter records, or ask only for statistics"},
+          {Resource::Output, output, sizes + ")", "use fewer or shorter records, or write .npy instead of CSV"}};
+}
+
+}  // namespace
+
 SimulateJob simulate_job_from_config(const Config& c, const std::vector<std::vector<double>>* drive) {
   SimulateJob job;
   job.config_file = c.file();
@@ -189,8 +230,7 @@ SimulateJob simulate_job_from_config(const Config& c, const std::vector<std::vec
   job.model = std::move(model_file.model);
   job.model_sections = std::move(model_file.sections);
   SimulationOptions& o = job.options;
-  o.records = static_cast<int>(c.integer_at_least("trajectories", 1, 100));
-  if (c.integer_or("trajectories", 100) > 1000000000) c.fail("trajectories", "must be <= 1e9");
+  o.records = static_cast<int>(c.integer_in("trajectories", 1, 1000000000, 100));
   o.dt = c.positive_or("dt", 0.001);
   const double duration = c.positive_or("duration", 100.0);
   const double ratio = duration / o.dt;
@@ -328,6 +368,8 @@ SimulateJob simulate_job_from_config(const Config& c, const std::vector<std::vec
   }
 
   if (auto why = o.invalid_reason(); !why.empty()) throw Error(c.file() + ": " + why);
+  check_budget(c, simulate_estimates(job));
+  if (forced(c)) o.memory_limit = std::numeric_limits<double>::infinity();
   // model errors name the model file (or the config key of an inline model)
   check_simulation(job.model, o, c.raw("model").is_string() ? c.raw("model").get<std::string>() : c.where("model"));
   return job;

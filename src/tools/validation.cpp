@@ -7,6 +7,7 @@
 #include <optional>
 #include <sstream>
 
+#include "tools/budget.hpp"
 #include "tools/figures.hpp"
 #include "tools/identify_tool.hpp"
 #include "tools/likelihood_refinement.hpp"
@@ -125,7 +126,7 @@ int run_validation(const Model& model, const Config& c, const AppOptions& app) {
   likelihood::FreeRunOptions fo;
   fo.input = model.fit ? model.fit->input : InputInterpolation::ZeroOrderHold;
   if (v.has("input")) fo.input = enum_from_string(kInputInterpolationNames, v.string("input"), v.where("input"));
-  fo.substeps = static_cast<int>(v.integer_at_least("substeps", 1, 8));
+  fo.substeps = v.int_at_least("substeps", 1, 8);
   if (fo.substeps > 1000) v.fail("substeps", "must be <= 1000");
   const auto skip = static_cast<std::size_t>(v.integer_at_least("skip", 0, 50));
   const double scale = v.positive_or("scale", 1.0);
@@ -133,6 +134,12 @@ int run_validation(const Model& model, const Config& c, const AppOptions& app) {
   const bool figure = v.boolean_or("figure", false);
   const auto figure_samples = static_cast<std::size_t>(v.integer_at_least("figure_samples", 10, 300));
   const std::string series_path = v.path_or("series", beside(output, "_series.csv"));
+  double samples = 0.0;  // free-run samples of all segments: the measured and simulated series in
+  for (const auto& seg : segments) samples += static_cast<double>(seg.last - seg.first);  // memory and the CSV
+  const std::string sizes = "(" + num(static_cast<double>(segments.size())) + " segments, " + num(samples) + " samples)";
+  check_budget(c, {{Resource::Steps, samples * fo.substeps, "integration steps " + sizes, "validate fewer or shorter segments"},
+                   {Resource::Memory, samples * 120.0, sizes, "validate fewer or shorter segments"},
+                   {Resource::Output, samples * 100.0, sizes, "validate fewer or shorter segments"}});
 
   if (model.uses_drive()) check_input_interpolation(fo.input, data, true, v.where("input"));
   nlohmann::ordered_json j;

@@ -1,6 +1,7 @@
 // The twins' simulator (src/diagnose/twins.cpp): its memory guard, and the input it carries.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -61,4 +62,30 @@ TEST_CASE("twins: an interpolated drive too large for the memory limit is refuse
   // lost its parameter uncertainty with "the data have no drive column u"
   REQUIRE(out.u.size() == 1000);
   CHECK(out.u[500] == d.u[500]);
+}
+
+TEST_CASE("twins: data in physical units x1e12 are simulated (a divergence bound in the data's units)",
+          "[diagnose][twins]") {
+  // the simulator's default bound, 1e8, stopped every twin of data x1e12 at its first step and no
+  // key raised it; the bound is now a multiple of the data's own extent
+  const Model m = diag_test::model_of(R"({"drift": {"x": -1.0, "x^3": -1.0, "y": -0.1}, "diffusion": {"1": 0.2}})");
+  const Model scaled_model =
+      diag_test::model_of(R"({"drift": {"x": -1.0, "x^3": -1e-24, "y": -0.1}, "diffusion": {"1": 2e23}})");
+  diag_test::DataSpec spec;
+  spec.records = 2;
+  spec.samples = 2000;
+  const Dataset d = diag_test::simulate(m, spec);
+  Dataset scaled = d;
+  for (auto& v : scaled.x) v *= 1e12;
+  const double bound = diagnose::detail::twin_divergence_bound(d);
+  CHECK(bound > 1e8);  // |dx/dt| of the data exceeds 1
+  CHECK(diagnose::detail::twin_divergence_bound(scaled) == Approx(1e12 * bound));
+  diagnose::detail::TwinSimulator twins(scaled_model, scaled, diagnose::detail::TwinSettings{});
+  Dataset out;
+  REQUIRE_NOTHROW(twins.simulate(0, out));
+  REQUIRE(out.x.size() == scaled.x.size());
+  double most = 0.0;
+  for (double v : out.x) most = std::max(most, std::abs(v));
+  CHECK(most > 1e11);
+  CHECK(most < 1e14);
 }

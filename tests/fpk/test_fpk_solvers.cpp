@@ -51,8 +51,13 @@ TEST_CASE("models without a stationary 2-D density are rejected with a reason", 
   vehs::Model nan_model = fpk_fixtures::model(R"({"drift": {"x": -1, "y": -0.1}, "diffusion": {"1": 0.02}})");
   nan_model.drift[0].coef = std::numeric_limits<double>::quiet_NaN();
   CHECK_THROWS_WITH(FpkModel(nan_model, "m.json"), Contains("not finite"));
-  // diffusion that turns negative inside the grid: named with the point
-  const FpkModel neg = fm(R"({"drift": {"x": -1, "y": -0.1}, "diffusion": {"1": 0.02, "x^2": -0.05}})");
+  // diffusion negative for large |x|: refused whatever the grid (simulate-vehs's and
+  // diagnose-vehs's rule; fpk-stationary solved it on a grid that did not reach |x| = 1.41)
+  CHECK_THROWS_WITH(fm(R"({"drift": {"x": -1, "y": -0.1}, "diffusion": {"1": 0.02, "x^2": -0.01}})"),
+                    Contains("m.json: diffusion a22(x, 0) = 0.02 - 0.01·x^2 has leading term -0.01·x^2 and turns "
+                             "negative at |x| = 1.414"));
+  // diffusion that turns negative inside the grid only: named with the point
+  const FpkModel neg = fm(R"({"drift": {"x": -1, "y": -0.1}, "diffusion": {"1": 0.02, "x^2": -0.05, "x^4": 0.01}})");
   Grid g;
   g.x = {-2, 2, 20};
   g.y = {-2, 2, 20};

@@ -224,6 +224,25 @@ TEST_CASE("bad configurations get one-line errors", "[simulate][errors]") {
     const auto e = error_of([&] { simulate(model_of(R"({"drift": {"x": -1.0}, "diffusion": {"1": 0.02, "x^2": -0.01}})"), o); });
     CHECK(e.find("diffusion") != std::string::npos);
   }
+  SECTION("an initial state beyond divergence_bound") {
+    // x0 = 1e308 was reported as "a22(-inf,-2) = -nan is negative"
+    auto far = o;
+    far.x0.uniform = false;
+    far.x0.values.assign(2, 1e308);
+    auto e = error_of([&] { simulate(m, far); });
+    CHECK(e.find("x0 = 1e+308 lies beyond divergence_bound = 1e+08") != std::string::npos);
+    CHECK(e.find("nan") == std::string::npos);
+    far.x0.values.assign(2, 0.5);
+    far.x0.y0 = -1e300;
+    e = error_of([&] { simulate(m, far); });
+    CHECK(e.find("y0 = 1e+300 lies beyond divergence_bound") != std::string::npos);
+    // a bound raised to the largest double: the model's terms overflow, said as such
+    far.x0.y0 = 0.0;
+    far.x0.values.assign(2, 1e200);
+    far.divergence_bound = 1e308;
+    e = error_of([&] { simulate(m, far); });
+    CHECK(e.find("overflows: initial states x0, y0 this far out") != std::string::npos);
+  }
   SECTION("odd diffusion term makes a22 negative on one side") {
     const auto e = error_of([&] { simulate(model_of(R"({"drift": {"x": -1.0}, "diffusion": {"1": 0.02, "x": 0.5}})"), o); });
     CHECK(e.find("negative") != std::string::npos);

@@ -63,3 +63,28 @@ TEST_CASE("paths with control characters are refused naming the key (a NUL cut t
                                                 Catch::Contains("0x09 (tab) at byte 2"));
   CHECK(vehs::tools::Config(nlohmann::json::parse(R"({"data": "é ü.csv"})"), "cfg.json").path_list("data").size() == 1);
 }
+
+TEST_CASE("integer keys are range-checked before they are narrowed", "[config][errors]") {
+  // an outside trial: folds 4294967298 ran as 2, stride 4294967297 as 1 (wrapped modulo 2^32)
+  const auto f = write_temp("vehs_cfg_ints.json",
+                            R"({"dt": 0.1, "folds": 4294967298, "stride": 4294967297, "neg": -1, "half": 2.5,
+                                "huge": 18446744073709551615, "big_float": 1e30, "ok": 7, "ok_float": 12.0})");
+  const vehs::tools::Config c(nlohmann::json::parse(std::ifstream(f)), "cfg.json");
+  CHECK_THROWS_WITH(c.int_at_least("folds", 1, 10),
+                    Catch::Contains("cfg.json: 'folds' must be at most 2147483647 (got 4294967298)"));
+  CHECK_THROWS_WITH(c.int_at_least("stride", 0, 0), Catch::Contains("'stride' must be at most 2147483647"));
+  CHECK_THROWS_WITH(c.integer_at_least("neg", 0, 0), Catch::Contains("'neg' must be >= 0 (got -1)"));
+  CHECK_THROWS_WITH(c.int_at_least("half", 1, 1), Catch::Contains("'half' must be an integer (got 2.5)"));
+  // 2^64 - 1 read as a long long was -1
+  CHECK_THROWS_WITH(c.integer("huge"), Catch::Contains("'huge' is too large"));
+  CHECK_THROWS_WITH(c.integer_at_least("huge", 0, 0), Catch::Contains("'huge' is too large"));
+  CHECK_THROWS_WITH(c.integer("big_float"), Catch::Contains("'big_float' is too large"));
+  CHECK_THROWS_WITH(c.integer_in("ok", 1, 5, 1), Catch::Contains("'ok' must be at most 5 (got 7)"));
+  CHECK(c.int_at_least("ok", 1, 1) == 7);
+  CHECK(c.int_at_least("ok_float", 1, 1) == 12);
+  CHECK(c.int_at_least("absent", 1, 3) == 3);
+  CHECK(vehs::tools::json_integer(nlohmann::json::parse("9223372036854775807")) == 9223372036854775807LL);
+  CHECK_FALSE(vehs::tools::json_integer(nlohmann::json::parse("9223372036854775808")));
+  CHECK_FALSE(vehs::tools::json_integer(nlohmann::json(2.5)));
+  CHECK_FALSE(vehs::tools::json_integer(nlohmann::json("3")));
+}
