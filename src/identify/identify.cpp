@@ -12,6 +12,7 @@
 #include "profile_fit.hpp"
 #include "term_fit.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/core/standard_errors.hpp"
 #include "vehs/identify/dynamic.hpp"
 
 namespace vehs::identify {
@@ -129,6 +130,7 @@ Result identify(const Dataset& data, const Options& options) {
   }
   check_sensor_noise(r, data);
   detail::require_finite_standard_errors(r.model);
+  standard_errors_from_covariance(r.model, "identify");
   return r;
 }
 

@@ -472,6 +472,7 @@ Result refine(const ObservedModel& start, const Dataset& data, const RefineOptio
     }
   }
   detail::respect_domain(res);
+  detail::attach_stderrs(res);  // the standard errors and the model's covariance from the final covariance
   return res;
 }
 

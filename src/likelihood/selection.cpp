@@ -14,23 +14,34 @@ void attach_stderrs(Result& res) {
   m.drift_stderr.clear();
   m.diffusion_stderr.clear();
   for (auto& e : m.effects) e.stderr_.clear();
+  std::vector<std::size_t> in_model;
   for (std::size_t i = 0; i < res.parameters.size(); ++i) {
     const ParameterInfo& p = res.parameters[i];
-    const double se = res.stderrs[i];
+    const double se = std::sqrt(std::max(res.covariance(Eigen::Index(i), Eigen::Index(i)), 0.0));
+    res.stderrs[i] = se;
     switch (p.kind) {
       case ParameterKind::Drift:
       case ParameterKind::Diffusion: {
         const std::string term = p.name.substr(p.name.find('[') + 1, p.name.size() - p.name.find('[') - 2);
         (p.kind == ParameterKind::Drift ? m.drift_stderr : m.diffusion_stderr)[term] = se;
+        in_model.push_back(i);
         break;
       }
       case ParameterKind::Effect:
         for (auto& e : m.effects)
           if (e.id == p.effect) e.stderr_[p.effect_param] = se;
+        in_model.push_back(i);
         break;
       default: break;
     }
   }
+  ParameterCovariance& c = m.covariance;
+  c.names.clear();
+  for (std::size_t i : in_model) c.names.push_back(res.parameters[i].name);
+  c.matrix.assign(in_model.size() * in_model.size(), 0.0);
+  for (std::size_t a = 0; a < in_model.size(); ++a)
+    for (std::size_t b = 0; b < in_model.size(); ++b)
+      c(a, b) = res.covariance(Eigen::Index(in_model[a]), Eigen::Index(in_model[b]));
 }
 
 double chi2_1_upper_quantile(double p) {

@@ -6,6 +6,7 @@
 
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/core/standard_errors.hpp"
 #include "vehs/likelihood/input_reading.hpp"
 #include "vehs/likelihood/record_phase_start.hpp"
 #include "vehs/likelihood/signals.hpp"
@@ -195,8 +196,9 @@ Refinement refine_moment_fit(Model& model, const Dataset& data, const Likelihood
   lf.bias_correction_skipped = r.summary.bias_correction_skipped;
   fit.likelihood = std::move(lf);
   out.warnings = forcing_frequency_warnings(model, r.model.model);
-  model = r.model.model;
+  model = r.model.model;  // its covariance the block of lf.covariance over the model's parameters
   model.fit = std::move(fit);
+  standard_errors_from_covariance(model, "likelihood");
   return out;
 }
 

@@ -11,8 +11,10 @@ namespace vehs::likelihood::detail {
 Result fit_support(const ObservedModel& start, const Dataset& data, const RefineOptions& o,
                    const FitChoice& choice, bool final_covariance);
 
-/// Copies the standard errors of `res.stderrs` into res.model (drift_stderr, diffusion_stderr,
-/// effects' stderr_).
+/// The uncertainty of `res` from one source, res.covariance: res.stderrs = sqrt(diag), and
+/// res.model.model gets them (drift_stderr, diffusion_stderr, effects' stderr_) with its
+/// covariance: the block of res.covariance over those parameters (not measurement_sd or the
+/// record phases), the same doubles.
 void attach_stderrs(Result& res);
 
 /// Backward elimination from the support of `start` (refine.hpp).
