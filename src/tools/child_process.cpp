@@ -49,7 +49,7 @@ struct SpawnSetup {
     posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
     posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
     posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_file.c_str(),
-                                     O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawnattr_init(&attr);
     // the child starts with the default disposition and an empty mask for every signal we handle
     sigset_t none, handled = cleanup_signals();
