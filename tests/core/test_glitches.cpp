@@ -95,7 +95,7 @@ TEST_CASE("a bad first or last sample of a record is a glitch (the one-sided rul
     }
 }
 
-TEST_CASE("clean records: no glitch at their ends either, nor a step at the second sample", "[core][glitches]") {
+TEST_CASE("clean records: no glitch at their ends either - nor a step at the second sample", "[core][glitches]") {
   for (std::uint32_t seed = 1; seed <= 10; ++seed) CHECK(vehs::find_glitches(oscillator(2000, seed, 4)).empty());
   vehs::Dataset d = oscillator(2000, 3);
   for (std::size_t i = 2; i < d.x.size(); ++i) d.x[i] += 2.0;  // an offset jump between samples 1 and 2

@@ -230,7 +230,7 @@ TEST_CASE("an output name starting with .vehs- is refused", "[io][outputs]") {
   CHECK_THROWS_WITH(vehs::check_output_path("out/.vehs-commit"), Catch::Contains("reserved"));
 }
 
-TEST_CASE("a folder reached through a link holds this run's staging folder, not a stale one",
+TEST_CASE("a folder reached through a link holds this run's staging folder - not a stale one",
           "[io][outputs][journal]") {
   const fs::path d = fresh("linked");
   fs::create_directories(d / "out");

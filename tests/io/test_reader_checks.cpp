@@ -69,7 +69,7 @@ vehs::Dataset records_with_id(long long id) {
 
 }  // namespace
 
-TEST_CASE(".mat record ids must be integers, as in CSV and .npy", "[io][reader_checks]") {
+TEST_CASE(".mat record ids must be integers - as in CSV and .npy", "[io][reader_checks]") {
   // two records labelled 0.2 and 0.7 were read as one record 0
   const std::string m = temp("vehs_fractional_ids.mat");
   std::vector<double> traj(200, 0.2), t(200), x = sine(200, 0.0);
@@ -78,7 +78,7 @@ TEST_CASE(".mat record ids must be integers, as in CSV and .npy", "[io][reader_c
   CHECK(read_error(m) == m + ": row 1: record id 0.2 is not an integer");
 }
 
-TEST_CASE("record ids up to 2^53 - 1 are read; larger ones are refused saying so", "[io][reader_checks]") {
+TEST_CASE("record ids up to 2^53 - 1 are read - larger ones are refused saying so", "[io][reader_checks]") {
   // ids from 2^53 - 4 up were refused as "not an integer"
   const long long big = (1LL << 53) - 4;
   for (const char* ext : {".csv", ".npy"}) {
@@ -112,7 +112,7 @@ TEST_CASE(".npy structured fields of several values per row are refused by name"
                              "one field per column, or a 2-D array with 'columns')");
 }
 
-TEST_CASE("a corrupt v7.3 .mat file is one line naming it, without HDF5's diagnostics", "[io][reader_checks]") {
+TEST_CASE("a corrupt v7.3 .mat file is one line naming it - without HDF5's diagnostics", "[io][reader_checks]") {
   const std::string p = temp("vehs_corrupt73.mat");
   std::string head = "MATLAB 7.3 MAT-file, Platform: GLNXA64, Created on: Mon Jan  5 10:00:00 2026 HDF5 schema 1.00 .";
   head.resize(116, ' ');

@@ -9,7 +9,7 @@
 
 using namespace vehs::tools;
 
-TEST_CASE("a budget above its limit is refused with the estimate, unless forced", "[budget][errors]") {
+TEST_CASE("a budget above its limit is refused with the estimate - unless forced", "[budget][errors]") {
   const Config plain(nlohmann::json::object(), "sim.json");
   const std::vector<Estimate> steps = {
       {Resource::Steps, 2e12, "integration steps (2 records)", "use fewer trajectories"}};

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "../likelihood/likelihood_fixtures.hpp"
+#include "tool_runs.hpp"
 #include "tools/tools.hpp"
 #include "vehs/io/measurements.hpp"
 #include "vehs/io/model_file.hpp"
@@ -22,26 +23,9 @@ using namespace vehs;
 
 namespace {
 
-fs::path work_dir() {
-  const fs::path p = fs::path(VEHS_BINARY_DIR) / "test_identify_defaults_work";
-  fs::create_directories(p);
-  return p;
-}
+fs::path work_dir() { return vehs_tool_test::work_dir("test_identify_defaults_work"); }
 
-int run_identify(const std::vector<std::string>& args, std::string* err) {
-  std::vector<std::string> a{"identify-vehs"};
-  a.insert(a.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& s : a) argv.push_back(s.data());
-  std::ostringstream e, o;
-  auto* old_err = std::cerr.rdbuf(e.rdbuf());
-  auto* old_out = std::cout.rdbuf(o.rdbuf());
-  const int code = tools::identify_main(static_cast<int>(argv.size()), argv.data());
-  std::cerr.rdbuf(old_err);
-  std::cout.rdbuf(old_out);
-  *err = e.str();
-  return code;
-}
+using vehs_tool_test::run_identify;
 
 /// The driven linear oscillator x'' = -x - 0.2 x' + 0.5 u + sqrt(0.02) dW/dt, integrated by
 /// Euler-Maruyama at 1/50 of the sampling interval 0.05 (a sensor sampling a continuous process),
@@ -109,8 +93,8 @@ ModelFile identified(const Dataset& d, const std::string& name, const std::strin
 
 }  // namespace
 
-TEST_CASE("identify-vehs, default config: the data's input column enters the drift library as u, "
-          "its coefficient within 3 SE of the truth, and the output says so",
+TEST_CASE("identify-vehs - default config: the data's input column enters the drift library as u - "
+          "its coefficient within 3 SE of the truth - and the output says so",
           "[tools][identify][defaults]") {
   const Dataset d = driven_oscillator(4, 1000.0, 3);
   std::string err;
@@ -129,7 +113,7 @@ TEST_CASE("identify-vehs, default config: the data's input column enters the dri
   CHECK(input.at("why").get<std::string>().find("default drift library") != std::string::npos);
 }
 
-TEST_CASE("identify-vehs: a given drift_library without u while the data have an input is warned about, "
+TEST_CASE("identify-vehs: a given drift_library without u while the data have an input is warned about - "
           "in one line and in the model file",
           "[tools][identify][defaults]") {
   const Dataset d = driven_oscillator(1, 300.0, 4);
@@ -144,7 +128,7 @@ TEST_CASE("identify-vehs: a given drift_library without u while the data have an
   CHECK(f.sections.at("data").at("input").at("in_drift_library") == false);
 }
 
-TEST_CASE("identify-vehs, estimator auto with the likelihood: it starts from every moment fit (uli and the "
+TEST_CASE("identify-vehs - estimator auto with the likelihood: it starts from every moment fit (uli and the "
           "auto choice among them) and refines the start with the highest log-likelihood",
           "[tools][identify][likelihood][defaults]") {
   // omega*dt 1.0: the sampling cannot vouch for the moment estimators, the likelihood refines

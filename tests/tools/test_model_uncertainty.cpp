@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "../likelihood/likelihood_fixtures.hpp"
+#include "tool_runs.hpp"
 #include "tools/tools.hpp"
 #include "vehs/io/measurements.hpp"
 #include "vehs/io/model_file.hpp"
@@ -23,11 +24,7 @@ using namespace vehs;
 
 namespace {
 
-fs::path work_dir() {
-  const fs::path p = fs::path(VEHS_BINARY_DIR) / "test_model_uncertainty_work";
-  fs::create_directories(p);
-  return p;
-}
+fs::path work_dir() { return vehs_tool_test::work_dir("test_model_uncertainty_work"); }
 
 /// Writes `d` and a config with `keys`, runs identify-vehs in-process, returns the model file's JSON.
 nlohmann::json identified(const Dataset& d, const std::string& name, const std::string& keys) {
@@ -127,7 +124,7 @@ TEST_CASE("a model file's stderr is sqrt(diag(covariance)): likelihood with and 
       R"("likelihood": {"use": "always", "select": false, "measurement_noise": false})"));
 }
 
-TEST_CASE("a model file's stderr is sqrt(diag(covariance)): likelihood with coulomb_friction, and "
+TEST_CASE("a model file's stderr is sqrt(diag(covariance)): likelihood with coulomb_friction - and "
           "with sensor noise estimated and bias-corrected",
           "[tools][uncertainty][likelihood][effects]") {
   const Dataset d = vehs_lik_test::simulate(friction_model(), 0.5, 2, 1500.0, 7);
