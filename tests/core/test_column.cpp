@@ -41,7 +41,7 @@ TEST_CASE("a column views caller memory without a copy and reads like an owning 
   CHECK(sum == 66.0);
 }
 
-TEST_CASE("a viewing column refuses to be modified; own() copies it once", "[core][column]") {
+TEST_CASE("a viewing column refuses to be modified - own() copies it once", "[core][column]") {
   const std::vector<double> memory{1.0, 2.0, 3.0, 10.0, 20.0, 30.0};
   vehs::Dataset d = viewing(memory);
   CHECK_THROWS_AS(d.x.push_back(1.0), vehs::Error);

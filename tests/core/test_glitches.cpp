@@ -29,7 +29,7 @@ TEST_CASE("clean records have no glitches (false alarm per run < 1e-20)", "[core
   for (std::uint32_t seed = 1; seed <= 10; ++seed) CHECK(vehs::find_glitches(oscillator(20000, seed)).empty());
 }
 
-TEST_CASE("a steep smooth feature is not a glitch; two adjacent bad samples are not isolated", "[core][glitches]") {
+TEST_CASE("a steep smooth feature is not a glitch - two adjacent bad samples are not isolated", "[core][glitches]") {
   vehs::Dataset d = oscillator(5000, 3);
   // a step (an offset jump) changes r at two samples with the same magnitude: not the signature
   for (std::size_t i = 2500; i < d.x.size(); ++i) d.x[i] += 2.0;

@@ -57,7 +57,7 @@ TEST_CASE("record phases: the time origin of a record gives its own phase at eve
   CHECK(vehs::leading_record_phases(m, 2, "test") == std::vector<double>(phases.begin(), phases.begin() + 2));
 }
 
-TEST_CASE("record phases: a shared phase keeps t0; other record counts are refused", "[core][record_phases]") {
+TEST_CASE("record phases: a shared phase keeps t0 - other record counts are refused", "[core][record_phases]") {
   const vehs::Dataset d = records({0.0, 5.0});
   CHECK(vehs::forcing_time_origins(forced(0.1, 1.0, 0.3, {}), d, "test") == std::vector<double>{0.0, 5.0});
   CHECK(vehs::leading_record_phases(forced(0.1, 1.0, 0.3, {}), 2, "test").empty());

@@ -68,7 +68,7 @@ TEST_CASE("autocorrelation and Welch spectrum of an AR(1) series match theory", 
   }
 }
 
-TEST_CASE("histograms integrate to the inside fraction; Hellinger distance bounds", "[statistics]") {
+TEST_CASE("histograms integrate to the inside fraction - Hellinger distance bounds", "[statistics]") {
   vehs::Histogram1D h(-1, 1, 20);
   for (int i = 0; i < 1000; ++i) h.add(-1.5 + 3.0 * i / 1000.0);
   double integral = 0;

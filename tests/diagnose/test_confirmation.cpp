@@ -53,7 +53,7 @@ Series series(std::uint64_t seed, Make make) {
 
 }  // namespace
 
-TEST_CASE("residual signature: white innovations show nothing; tails, memory, a variance following the state, the "
+TEST_CASE("residual signature: white innovations show nothing - tails, memory, a variance following the state, the "
           "input and a line are each named", "[diagnose][confirmation]") {
   std::normal_distribution<double> n01;
   // white N(0, 1): each of the 7 z's beyond 4.5 with probability ≤ 6.8e-6 (two-sided normal;
@@ -93,7 +93,7 @@ TEST_CASE("residual signature: white innovations show nothing; tails, memory, a 
   CHECK(line.rfind("a spectral line in the innovations at 78.5", 0) == 0);
 }
 
-TEST_CASE("conclusion: confirmed effects are recommended; none confirmed at a huge significance is outside the "
+TEST_CASE("conclusion: confirmed effects are recommended - none confirmed at a huge significance is outside the "
           "catalogue", "[diagnose][confirmation]") {
   using namespace vehs::diagnose;
   Result r;

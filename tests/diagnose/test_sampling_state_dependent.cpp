@@ -47,7 +47,7 @@ double min_p(const diagnose::Result& r) {
 }  // namespace
 
 TEST_CASE("sampling diagnosis: noise-free pentastable records with a y^2 diffusion read no sensor noise and the "
-          "true model is adequate; 2 % white noise on them is read",
+          "true model is adequate - 2 % white noise on them is read",
           "[diagnose][sampling][state_dependent]") {
   const score_test::HiddenCase hc = velocity_noise_case();
   const Dataset d = score_test::hidden_data(hc, 101);

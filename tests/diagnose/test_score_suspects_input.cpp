@@ -120,7 +120,7 @@ std::string describe(const diagnose::ScoreSuspectReport& r) {
 // check is the power of the same tests against the half-sample delay of a held input (z ≫ 10
 // here), not a rare event. Total ≤ 1e-4.
 TEST_CASE("diagnose's likelihood applies the input as the model was fitted (band-limited): no suspect on "
-          "the model's own driven data; held, the same model looks wrong",
+          "the model's own driven data - held, the same model looks wrong",
           "[diagnose][score_suspects][input]") {
   const Dataset d = driven_data(driven_duffing(), kDt, 1500, 6, 0.01, 41);
   const BandLimitedFit fit = fit_band_limited(d, kDt);

@@ -183,7 +183,7 @@ TEST_CASE("dynamic effects: stops and forcing together, with spurious library te
   check_baseline(r.model, truth, 10);
 }
 
-TEST_CASE("dynamic effects: given params are held fixed; unsupported and bad requests fail clearly",
+TEST_CASE("dynamic effects: given params are held fixed - unsupported and bad requests fail clearly",
           "[identify][dynamic]") {
   Model truth = hidden_effect_potential("bistable");
   Effect e;

@@ -108,7 +108,7 @@ TEST_CASE("dynamic effects: colored_noise (OU time constant and intensity) on tw
   CHECK(dev.max_z <= z_limit(7));
 }
 
-TEST_CASE("calibration study: colored_noise over 10 seeds and both potentials (z of tau, intensity, damping; env CN_TAU, CN_INT, CN_SEEDS)",
+TEST_CASE("calibration study: colored_noise over 10 seeds and both potentials (z of tau, intensity, damping - env CN_TAU, CN_INT, CN_SEEDS)",
           "[.calibration]") {
   const int seeds = std::getenv("CN_SEEDS") ? std::atoi(std::getenv("CN_SEEDS")) : 10;
   for (const std::string pot : {"bistable", "monostable"})

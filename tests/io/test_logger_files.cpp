@@ -51,7 +51,7 @@ std::string error_of(const std::string& path, const vehs::ReadOptions& o) {
 
 }  // namespace
 
-TEST_CASE("a logger CSV: BOM, comments, ';', quoted names, 6-decimal stamps with 0.2 ms jitter, mm", "[io][logger]") {
+TEST_CASE("a logger CSV: BOM, comments, semicolons, quoted names, 6-decimal stamps with 0.2 ms jitter, mm", "[io][logger]") {
   const auto x = displacement(), u = drive();
   vehs::test::LoggerStyle s;
   s.jitter = 2e-4;
@@ -78,7 +78,7 @@ TEST_CASE("a logger CSV: BOM, comments, ';', quoted names, 6-decimal stamps with
   CHECK_THAT(error_of(p, tight), Catch::Contains("vehs_logger.csv: line ") && Catch::Contains("non-uniform sampling"));
 }
 
-TEST_CASE("logged time stamps: 6 decimals, float32, 10 significant digits; dt given checks the column", "[io][logger]") {
+TEST_CASE("logged time stamps: 6 decimals, float32, 10 significant digits - dt given checks the column", "[io][logger]") {
   const auto x = displacement();
   for (int variant = 0; variant < 3; ++variant) {
     CAPTURE(variant);

@@ -70,7 +70,7 @@ TEST_CASE("CSV quirks: quoted headers, trailing commas, free column order, no ti
   CHECK(vehs::read_measurements(q).records[0].dt == Approx(0.1));
 }
 
-TEST_CASE("European and spreadsheet CSV: decimal commas with ';', '%' comments, NA / #N/A as missing",
+TEST_CASE("European and spreadsheet CSV: decimal commas with semicolons, '%' comments, NA / #N/A as missing",
           "[io]") {
   // a new user's logger files (25 Nov 2026) stopped at "'0,000000' is not a number", "no column
   // 'x' (columns: % logger v1)" and "'NA' is not a number"

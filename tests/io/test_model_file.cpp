@@ -64,7 +64,7 @@ TEST_CASE("bad models are rejected with a message naming the problem", "[model]"
   CHECK_THROWS_WITH(vehs::validate_model(m, "bad.json"), Catch::Contains("negative"));
 }
 
-TEST_CASE("the covariance of the estimates round-trips; a bad one is rejected naming the entry", "[model][covariance]") {
+TEST_CASE("the covariance of the estimates round-trips - a bad one is rejected naming the entry", "[model][covariance]") {
   const auto m = vehs::model_from_json(json::parse(R"({
     "drift": {"x": -1, "y": -0.1}, "diffusion": {"1": 0.02},
     "covariance": {"parameters": ["drift[x]", "drift[y]", "diffusion[1]"],
@@ -89,7 +89,7 @@ TEST_CASE("the covariance of the estimates round-trips; a bad one is rejected na
                     Catch::Contains("appears twice"));
 }
 
-TEST_CASE("the likelihood's bias correction is recorded in the model file and read back; bad entries are "
+TEST_CASE("the likelihood's bias correction is recorded in the model file and read back - bad entries are "
           "rejected naming the key",
           "[model][likelihood]") {
   auto with = [](const std::string& bias) {

@@ -108,7 +108,7 @@ TEST_CASE("an input read after its output was staged still stops the commit", "[
   fs::remove_all(d);
 }
 
-TEST_CASE("SIGTERM and SIGINT during a run remove staged and temporary files; status 143 and 130",
+TEST_CASE("SIGTERM and SIGINT during a run remove staged and temporary files - status 143 and 130",
           "[io][outputs]") {
   for (const int sig : {SIGTERM, SIGINT}) {
     const fs::path d = fresh("signal" + std::to_string(sig));

@@ -40,7 +40,7 @@ Model fit_with(SamplingVerdict verdict, int stride) {
 
 }  // namespace
 
-TEST_CASE("auto: white sensor noise at the recorded rate sends the fit to the likelihood; noise "
+TEST_CASE("auto: white sensor noise at the recorded rate sends the fit to the likelihood - noise "
           "white only at a longer stride does not", "[likelihood][adequacy]") {
   const Dataset d = slow_cosine(0.05);
   const likelihood::SamplingAdequacy scheme = likelihood::assess_sampling(fit_with(SamplingVerdict::ContinuousTime, 1), d);
@@ -73,7 +73,7 @@ TEST_CASE("auto: a hidden state's moment fit stands only while 2·rate·Δt is b
   CHECK(likelihood::hidden_state_rate_dt(fit_with(SamplingVerdict::ContinuousTime, 1), 0.05) == 0.0);
 }
 
-TEST_CASE("auto: from 0.2 radians per sample the likelihood refines whatever the standard errors; "
+TEST_CASE("auto: from 0.2 radians per sample the likelihood refines whatever the standard errors - "
           "below, only a bias above the best relative SE", "[likelihood][adequacy]") {
   Model m = fit_with(SamplingVerdict::ContinuousTime, 1);  // best relative SE 0.02
   const likelihood::SamplingAdequacy coarse = likelihood::assess_sampling(m, cosine(0.05, 0.29));

@@ -125,7 +125,7 @@ TEST_CASE("bias correction with an interpolated input: simulated data driven as 
   }
 }
 
-TEST_CASE("bias correction auto: only for fits with resolved sensor noise; one that cannot be done is skipped with the reason",
+TEST_CASE("bias correction auto: only for fits with resolved sensor noise - one that cannot be done is skipped with the reason",
           "[likelihood][bias_correction]") {
   const Model linear = model(R"({"drift": {"x": -1.0, "y": -0.2}, "diffusion": {"1": 0.04}})");
   const Dataset d = simulate(linear, 0.5, 2, 500.0, 17, 0.02);
