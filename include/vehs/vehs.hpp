@@ -53,3 +53,4 @@
 #include "vehs/likelihood/parameters.hpp"
 #include "vehs/likelihood/refine.hpp"
 #include "vehs/likelihood/signals.hpp"
+#include "vehs/fit/fit.hpp"

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <iostream>
 #include <string>
 
 #include <nanobind/stl/optional.h>
@@ -45,8 +46,14 @@ Records records_from_arrays(InColumn x, const std::vector<std::size_t>& sizes, d
 }
 
 std::shared_ptr<const Dataset> checked_records(const Records& records, const tools::Config& options) {
+  return checked_records(records, tools::data_checks(options));
+}
+
+std::shared_ptr<const Dataset> checked_records(const Records& records, const DataChecks& checks) {
   if (records.checked) return records.data;
-  return std::make_shared<const Dataset>(tools::checked_measurements(options, *records.data));
+  CheckedData checked = check_data(*records.data, checks);
+  for (const std::string& line : checked.dropped) std::cerr << "warning: " << line << "\n";  // as the CLI says it
+  return std::make_shared<const Dataset>(std::move(checked.data));
 }
 
 nb::object column_view(const vehs::Column& column, nb::handle self) {

@@ -15,6 +15,7 @@
 
 #include "tools/config.hpp"
 #include "vehs/core/dataset.hpp"
+#include "vehs/fit/data_checks.hpp"
 
 namespace vehs::python {
 namespace nb = nanobind;
@@ -33,6 +34,8 @@ struct Records {
 /// else after the data checks of identify-vehs and diagnose-vehs (glitches, flat stretches) under
 /// the options' `glitches` and `flat_stretches` rules, so that arrays get the checks files get.
 std::shared_ptr<const Dataset> checked_records(const Records& records, const tools::Config& options);
+/// The same under typed rules (vehs.FitOptions' glitches and flat_stretches).
+std::shared_ptr<const Dataset> checked_records(const Records& records, const DataChecks& checks);
 
 /// A Dataset of records of the given sizes, all sampled every `dt` from t = 0, named `source` in
 /// error messages, whose x (and u) view the arrays' memory (no copy).

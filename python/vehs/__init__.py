@@ -8,11 +8,11 @@ messages (raised as :class:`vehs.Error`, a ``ValueError``).
 from ._vehs import Error, max_threads, set_threads
 from .model import Model
 from .records import Records, as_records, read
-from .compute import diagnose, identify, identify_study, monte_carlo, simulate, stationary, sweep, Diagnosis, Stationary
+from .compute import FitOptions, diagnose, identify, identify_study, monte_carlo, simulate, stationary, sweep, Diagnosis, Stationary
 from .progress import tqdm_progress
 
 __all__ = [
-    "Error", "Model", "Records", "as_records", "read", "simulate", "monte_carlo", "identify", "identify_study", "stationary",
+    "Error", "FitOptions", "Model", "Records", "as_records", "read", "simulate", "monte_carlo", "identify", "identify_study", "stationary",
     "sweep", "diagnose", "Diagnosis", "Stationary", "set_threads", "max_threads", "tqdm_progress",
 ]
 __version__ = "0.1.0"

@@ -65,17 +65,37 @@ def monte_carlo(model, progress=None, statistics=None, drive=None, **options):
     return json.loads(text)
 
 
-def identify(x, dt=None, u=None, progress=None, **options):
+class FitOptions(_vehs.FitOptions):
+    """The fit's typed options (vehs::FitOptions): identify-vehs's keys (estimator, drift_library,
+    diffusion_library, effects, sparsity, criterion, likelihood, glitches, detrend, ...) read and
+    checked once, with the CLI's messages. The common ones are properties to read and set:
+    ``estimator``, ``likelihood_use`` ('auto', 'always', 'never'), ``likelihood_starts``,
+    ``drift_library``, ``diffusion_library`` (term names), ``effects`` (read only), ``glitches``
+    and ``flat_stretches`` ('error', 'drop', 'keep')."""
+
+    def __init__(self, **options):
+        super().__init__(options_json("vehs.identify", options))
+
+
+def identify(x, dt=None, u=None, progress=None, options=None, **keys):
     """Drift and diffusion from displacement records: ``(Model, report)``.
 
     ``x``: Records (used in place), a 2-D array (records × samples), a 1-D array or a list of
     1-D arrays: a C-contiguous float64 array is read in place (no copy; see :func:`as_records`),
     others are copied once. ``detrend="mean"`` necessarily works on a copy of the records (the
-    caller's array is never modified). Options are identify-vehs's keys (estimator, drift_library,
-    diffusion_library, effects, sparsity, criterion, ...). The model carries the report sections,
-    so ``model.save(path)`` writes what identify-vehs writes (without its data/provenance)."""
+    caller's array is never modified). ``options``: a :class:`FitOptions`, or identify-vehs's keys
+    as keyword arguments (estimator, drift_library, diffusion_library, effects, sparsity,
+    criterion, ...). The fit is identify-vehs's (vehs::fit): the same records give the same model,
+    bitwise. The model carries the report sections, so ``model.save(path)`` writes what
+    identify-vehs writes (without its data/provenance)."""
+    if options is None:
+        options = FitOptions(**keys)
+    elif keys:
+        raise TypeError("vehs.identify: give options=FitOptions(...) or keyword options, not both")
+    elif not isinstance(options, _vehs.FitOptions):
+        raise TypeError("vehs.identify: options must be a vehs.FitOptions")
     records = as_records(x, dt, u)
-    core, report = _vehs.identify(records._core, options_json("vehs.identify", options), progress)
+    core, report = _vehs.identify(records._core, options, progress)
     return Model(_core=core), json.loads(report)
 
 

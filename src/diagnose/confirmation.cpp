@@ -15,10 +15,10 @@
 #include "vehs/core/error.hpp"
 #include "vehs/core/record_phases.hpp"
 #include "vehs/diagnose/suspects.hpp"
+#include "vehs/fit/fit.hpp"
 #include "vehs/identify/identify.hpp"
 #include "vehs/likelihood/filter.hpp"
 #include "vehs/likelihood/free_run.hpp"
-#include "vehs/likelihood/record_phase_start.hpp"
 #include "vehs/likelihood/refine.hpp"
 
 namespace vehs::diagnose {
@@ -98,40 +98,46 @@ InputInterpolation input_of(const Model& model) {
   return model.fit ? model.fit->input : InputInterpolation::ZeroOrderHold;
 }
 
-Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const std::vector<Effect>& added,
-               bool added_per_record = false) {
-  identify::Options io = refit_options(model, lens);
-  io.effects.insert(io.effects.end(), added.begin(), added.end());
-  Refit out;
-  out.model = identify::identify(train, io).model;
-  out.measurement_sd = lens.sensor_noise_sd;
-  if (!refits_by_likelihood(model, lens)) return out;
-  // refined by maximum likelihood, the support fixed: with the model's measurement noise and
-  // forcing phases when it was so fitted, else from the moment refit with the lens's noise
+/// The refit's options for vehs::fit: identify's moment fit through the lens with the model's own
+/// libraries, then (refits by the likelihood) the likelihood with the support fixed, started at
+/// the model's measurement noise and forcing phases when it was so fitted, else at the lens's noise.
+FitOptions refit_fit_options(const Model& model, const Lens& lens, const Dataset& train, const std::vector<Effect>& added,
+                             bool added_per_record) {
+  FitOptions f;
+  f.run_checks = false;
+  f.moment = refit_options(model, lens);
+  f.moment.effects.insert(f.moment.effects.end(), added.begin(), added.end());
+  f.libraries_given = {true, true};
+  f.folds_given = true;
+  f.likelihood_starts = false;
+  LikelihoodSettings& l = f.likelihood;
+  l.use = refits_by_likelihood(model, lens) ? LikelihoodUse::Always : LikelihoodUse::Never;
+  l.input_auto = false;
+  l.record_fit_info = false;
   const LikelihoodFit* lf = model.fit && model.fit->likelihood ? &*model.fit->likelihood : nullptr;
   const double noise_sd = lf ? lf->measurement_sd : lens.sensor_noise_sd;
-  const std::vector<double> phases =
-      lf ? leading_record_phases(model, train.records.size(), "confirmation") : std::vector<double>{};
-  if (!phases.empty())  // identify's moment fit has one shared phase: start from the model's forcing
-    for (Effect& e : out.model.effects)
-      if (e.id == EffectId::HarmonicForcing) e.params = model.find_effect(EffectId::HarmonicForcing)->params;
-  likelihood::ObservedModel start{out.model, noise_sd, phases};
-  likelihood::RefineOptions ro;
-  ro.filter.input = input_of(model);
-  if (phases.empty() && added_per_record)  // each record's own moment fit: its phase (as identify-vehs)
-    likelihood::start_record_phases(start, train, [&](const Dataset& one) { return identify::identify(one, io).model; },
-                                    ro.filter);
-  ro.covariance = likelihood::Covariance::Fisher;
-  ro.estimate_measurement_noise = noise_sd > 0.0;
-  ro.measurement_sd_start = noise_sd;
-  ro.per_record_phase = !start.record_phases.empty();
-  const likelihood::Result r = likelihood::refine(start, train, ro);
-  const std::optional<FitInfo> fit = out.model.fit;
-  out.model = r.model.model;
-  out.model.fit = fit;
-  if (out.model.fit) out.model.fit->input = input_of(model);
-  out.measurement_sd = r.model.measurement_sd;
-  out.record_phases = r.model.record_phases;
+  if (lf) l.start_record_phases = leading_record_phases(model, train.records.size(), "confirmation");
+  if (!l.start_record_phases.empty())  // identify's moment fit has one shared phase: start from the model's forcing
+    l.start_effects = {*model.find_effect(EffectId::HarmonicForcing)};
+  l.start_measurement_sd = noise_sd;
+  l.options = likelihood::RefineOptions{};
+  l.options.filter.input = input_of(model);
+  l.options.covariance = likelihood::Covariance::Fisher;
+  l.options.estimate_measurement_noise = noise_sd > 0.0;
+  l.options.measurement_sd_start = noise_sd;
+  l.options.per_record_phase = !l.start_record_phases.empty() || added_per_record;
+  return f;
+}
+
+Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const std::vector<Effect>& added,
+               bool added_per_record = false) {
+  const FitSummary s = fit(train, refit_fit_options(model, lens, train, added, added_per_record));
+  if (!s.refinement.failure.empty()) throw Error(s.refinement.failure);  // a refit that fails is not confirmed
+  Refit out{s.model(), lens.sensor_noise_sd, {}};
+  if (s.refinement.result) {
+    out.measurement_sd = s.refinement.result->model.measurement_sd;
+    out.record_phases = s.refinement.result->model.record_phases;
+  }
   return out;
 }
 

@@ -1,12 +1,9 @@
 #include "tools/data_checks.hpp"
 
-#include <cmath>
 #include <iostream>
+#include <utility>
 
-#include "vehs/core/detail/format.hpp"
-#include "vehs/core/error.hpp"
-#include "vehs/core/flat_stretches.hpp"
-#include "vehs/core/glitches.hpp"
+#include "vehs/fit/data_checks.hpp"
 
 namespace vehs::tools {
 
@@ -36,54 +33,23 @@ KeySpec flat_stretches_key_spec() {
           "\"error\""};
 }
 
-namespace {
-
-std::string rule_of(const Config& c, const std::string& key) {
-  const std::string rule = c.string_or(key, "error");
-  if (rule != "error" && rule != "drop" && rule != "keep")
-    c.fail(key, "must be \"error\", \"drop\" or \"keep\" (got \"" + rule + "\")");
-  return rule;
+DataChecks data_checks(const Config& c) {
+  DataChecks d;
+  for (auto [key, rule] : {std::pair{"glitches", &d.glitches}, std::pair{"flat_stretches", &d.flat_stretches}}) {
+    const std::string text = c.string_or(key, "error");
+    if (text != "error" && text != "drop" && text != "keep")
+      c.fail(key, "must be \"error\", \"drop\" or \"keep\" (got \"" + text + "\")");
+    *rule = enum_from_string(kCheckRuleNames, text, key);
+  }
+  return d;
 }
-
-/// What a check that found something does under its rule: "error" stops naming the findings
-/// (`what`), "drop" cuts the records there (said on stderr even with --quiet).
-template <class Drop>
-Dataset apply_rule(const std::string& rule, const std::string& key, const Dataset& data, const std::string& what,
-                   const Drop& drop) {
-  if (rule == "error") throw Error(what + " (config '" + key + "': \"drop\" removes them, \"keep\" fits them)");
-  std::cerr << "warning: dropped " << what << "\n";  // changes the data: said even with --quiet
-  Dataset kept = drop(data);
-  if (kept.records.empty()) throw Error("no record is left after dropping " + what);
-  return kept;
-}
-
-Dataset without_flat_stretches(const Config& c, Dataset data) {
-  const std::string rule = rule_of(c, "flat_stretches");
-  if (rule == "keep") return data;
-  const std::vector<FlatStretch> flat = find_flat_stretches(data);
-  if (flat.empty()) return data;
-  const std::string what = std::to_string(flat.size()) + " flat stretch" + (flat.size() > 1 ? "es" : "") +
-                           " (one value repeated): " + describe_flat_stretches(data, flat);
-  return apply_rule(rule, "flat_stretches", data, what,
-                    [&](const Dataset& d) { return drop_flat_stretches(d, flat); });
-}
-
-Dataset without_glitches(const Config& c, Dataset data) {
-  const std::string rule = rule_of(c, "glitches");
-  if (rule == "keep") return data;
-  const std::vector<Glitch> glitches = find_glitches(data);
-  if (glitches.empty()) return data;
-  const std::string what = std::to_string(glitches.size()) + " isolated glitch sample" +
-                           (glitches.size() > 1 ? "s" : "") + ": " + describe_glitches(data, glitches);
-  return apply_rule(rule, "glitches", data, what,
-                    [&](const Dataset& d) { return drop_glitches(d, glitches); });
-}
-
-}  // namespace
 
 Dataset checked_measurements(const Config& c, Dataset data) {
-  if (!data.records.empty()) (void)data.common_dt();  // in the files' own units, before any scaling
-  return without_glitches(c, without_flat_stretches(c, std::move(data)));
+  const DataChecks checks = data_checks(c);
+  CheckedData checked = check_data(std::move(data), checks);
+  for (const std::string& line : checked.dropped)
+    std::cerr << "warning: " << line << "\n";  // changes the data: said even with --quiet
+  return std::move(checked.data);
 }
 
 }  // namespace vehs::tools

@@ -16,13 +16,12 @@
 #include "vehs/core/parameters.hpp"
 #include "tools/data_checks.hpp"
 #include "tools/identify_file.hpp"
-#include "tools/likelihood_refinement.hpp"
+#include "tools/likelihood_config.hpp"
 #include "vehs/core/diffusion_in_data.hpp"
-#include "vehs/likelihood/filter_diverged.hpp"
 #include "vehs/likelihood/signals.hpp"
 #include "tools/identify_figures.hpp"
 #include "tools/measurement_config.hpp"
-#include "tools/recorded_input.hpp"
+#include "tools/fit_sections.hpp"
 #include "tools/budget.hpp"
 #include "tools/study_output.hpp"
 #include "vehs/io/atomic_file.hpp"
@@ -398,21 +397,6 @@ std::string detrend_hint(const Dataset& data) {
   return "x's mean is " + g(std::abs(m) / sd) + " standard deviations from 0: \"detrend\": \"mean\" removes each record's offset";
 }
 
-/// Whether the likelihood refined the moment fit, and why (vehs/likelihood/adequacy.hpp).
-nlohmann::ordered_json adequacy_json(const Refinement& f) {
-  nlohmann::ordered_json j;
-  if (std::isfinite(f.adequacy.omega_dt)) j["omega_dt"] = f.adequacy.omega_dt;
-  if (std::isfinite(f.adequacy.increments_omega_dt)) j["increments_omega_dt"] = f.adequacy.increments_omega_dt;
-  if (std::isfinite(f.adequacy.stiffness_omega_dt)) j["stiffness_omega_dt"] = f.adequacy.stiffness_omega_dt;
-  j["vouched"] = f.adequacy.vouched;
-  j["likelihood"] = f.result ? "used" : !f.failure.empty() ? "failed" : "not used";
-  j["reason"] = f.adequacy.reason;
-  if (!f.failure.empty()) j["failure"] = f.failure;
-  if (!f.input_reason.empty()) j["input"] = f.input_reason;
-  if (!f.warnings.empty()) j["warnings"] = f.warnings;
-  return j;
-}
-
 /// A variance rate cannot be negative where the data go: the fit's diffusion terms are not
 /// supported by the data (vehs/core/diffusion_in_data.hpp); the model is not written.
 void require_diffusion_in_data(const Model& m, const Dataset& data, const std::string& where) {
@@ -436,106 +420,44 @@ void require_diffusion_in_data(const Model& m, const Dataset& data, const std::s
               "(quantised, clipped?); " + where + " not written");
 }
 
-/// The effects' parameters of the model the likelihood refined (the moment fit's are left in
-/// `dynamic_fit` and `selection` only): a model file with two values of one parameter, μ 0.0405
-/// under effect_params beside sign(y) −0.0519 in the drift, misled an outside tester.
-void refresh_effect_params(identify::Result& r, const std::vector<Effect>& requested) {
-  std::vector<Effect> term_like;
-  for (const Effect& e : requested)
-    if (effect_spec(e.id).term_like) term_like.push_back(e);
-  std::vector<Effect> params = identify::effect_parameters(r.model, term_like);
-  for (const Effect& e : r.model.effects) params.push_back(e);
-  r.report.effect_params = std::move(params);
-}
-
-/// The moment fits of the estimators other than `chosen` (uli, noisy, forward), kept in `results`
-/// (aligned with the candidates) for the one the likelihood may start from.
-std::vector<MomentCandidate> other_moment_fits(const Dataset& data, const Options& o, Estimator chosen,
-                                               std::vector<std::optional<identify::Result>>& results) {
-  std::vector<MomentCandidate> out;
-  for (Estimator e : {Estimator::Uli, Estimator::Noisy, Estimator::Forward}) {
-    if (e == chosen) continue;
-    Options a = o;
-    a.estimator = e;
-    MomentCandidate c{enum_to_string(kEstimatorNames, e), std::nullopt, {}};
-    try {
-      results.emplace_back(identify::identify(data, a));
-      c.model = results.back()->model;
-    } catch (const Error& err) {
-      results.emplace_back(std::nullopt);
-      c.failure = err.what();
-    }
-    out.push_back(std::move(c));
-  }
-  return out;
-}
-
 }  // namespace
 
-IdentifyFit identify_fit(const Config& c, const Dataset& loaded, const ProgressCallback& progress,
-                         const std::function<void(const std::string&)>& log, std::optional<Dataset>& ranged) {
-  Options o = identify_options(c);
-  o.progress = progress;
-  LikelihoodSettings lik = likelihood_settings(c);
-  lik.options.log = log;
-  if (c.has("samples")) ranged = sample_range(c, loaded);
-  const Dataset& data = ranged ? *ranged : loaded;
-  RecordedInput input = use_recorded_input(c, data, o);
-  if (log && input.added) log("identify: " + input.why);
-  if (lik.options.select) lik.options.candidate_drift = o.drift_library, lik.options.candidate_diffusion = o.diffusion_library;
-  // the default folds only feed the CV figures under the BIC criterion: fewer on small data
-  if (!c.has("folds") && o.criterion == identify::Criterion::Bic)
-    o.folds = static_cast<int>(std::clamp<std::size_t>(data.total_samples() / 100, 2, static_cast<std::size_t>(o.folds)));
-  if (static_cast<std::size_t>(o.folds) * 100 > data.total_samples())
-    c.fail("folds", "= " + std::to_string(o.folds) + " leaves fewer than 100 samples per fold (the data have " +
-                        std::to_string(data.total_samples()) + ")");
-  IdentifyFit fit{[&] {
-                    try {
-                      return identify::identify(data, o);
-                    } catch (const Error& e) {  // a DC offset makes 1, x, x², … collinear: say the cure
-                      const std::string what = e.what(), hint = detrend_hint(data);
-                      if (what.find("ill-conditioned") == std::string::npos || c.has("detrend") || hint.empty()) throw;
-                      throw Error(what + "; " + hint);
-                    }
-                  }(),
-                  {}, {}};
-  fit.input = std::move(input);
-  Options quiet = o;
-  quiet.progress = {};
-  // under auto the likelihood starts from every moment fit (tools/likelihood_starts.hpp)
-  std::vector<std::optional<identify::Result>> others;
-  MomentCandidates other_fits;
-  if (o.estimator == Estimator::Auto)
-    other_fits = [&] { return other_moment_fits(data, quiet, fit.result.model.fit->estimator, others); };
-  try {
-    fit.refinement = refine_moment_fit(fit.result.model, data, lik,
-                                       [&](const Dataset& one) { return identify::identify(one, quiet).model; }, other_fits);
-  } catch (const likelihood::FilterDiverged& e) {  // no evidence against the model: the moment fit stands
-    fit.refinement = Refinement{};
-    fit.refinement.adequacy = likelihood::assess_sampling(fit.result.model, data);
-    fit.refinement.failure = e.what();
-    fit.refinement.warnings.push_back(std::string("the likelihood could not refine the moment fit (") + e.what() +
-                                      "); the model is the moment fit, with its standard errors");
-    if (log) log("likelihood: failed, the moment fit stands: " + fit.refinement.failure);
-    return fit;
-  }
-  if (const std::size_t k = fit.refinement.chosen_candidate; k > 0) {
-    identify::Result chosen = std::move(*others[k - 1]);
-    chosen.model = std::move(fit.result.model);  // the refined model
-    chosen.report.estimator.reason = "the likelihood's highest start (estimator.likelihood_starts); auto had read: " +
-                                     fit.result.report.estimator.reason;
-    chosen.report.estimator.requested = Estimator::Auto;
-    fit.result = std::move(chosen);
-  }
-  if (fit.refinement.result) refresh_effect_params(fit.result, o.effects);
-  return fit;
+FitOptions fit_options(const Config& c) {
+  FitOptions f;
+  f.moment = identify_options(c);
+  f.libraries_given = {c.has("drift_library"), c.has("diffusion_library")};
+  f.folds_given = c.has("folds");
+  f.input_column = input_column_name(c);
+  f.likelihood = likelihood_settings(c);
+  f.checks = data_checks(c);
+  f.run_checks = false;  // applied when the data are read (load_measurements, vehs.read's records)
+  return f;
 }
 
-IdentifiedInMemory identify_in_memory(const Config& c, const Dataset& data, const ProgressCallback& progress,
+vehs::FitSummary identify_fit(const Config& c, FitOptions f, const Dataset& loaded, const ProgressCallback& progress,
+                              const std::function<void(const std::string&)>& log, std::optional<Dataset>& ranged) {
+  f.progress = progress;
+  f.log = log;
+  if (c.has("samples")) ranged = sample_range(c, loaded);
+  const Dataset& data = ranged ? *ranged : loaded;
+  if (const int folds = fit_folds(f, data.total_samples()); static_cast<std::size_t>(folds) * 100 > data.total_samples())
+    c.fail("folds", "= " + std::to_string(folds) + " leaves fewer than 100 samples per fold (the data have " +
+                        std::to_string(data.total_samples()) + ")");
+  try {
+    return fit(data, f);
+  } catch (const Error& e) {  // a DC offset makes 1, x, x², … collinear: say the cure
+    const std::string what = e.what(), hint = detrend_hint(data);
+    if (what.find("ill-conditioned") == std::string::npos || c.has("detrend") || hint.empty()) throw;
+    throw Error(what + "; " + hint);
+  }
+}
+
+IdentifiedInMemory identify_in_memory(const Config& c, const FitOptions& options, const Dataset& data,
+                                      const ProgressCallback& progress,
                                       const std::function<void(const std::string&)>& log,
                                       std::optional<Dataset>& ranged, const std::string& where) {
   const auto start = std::chrono::steady_clock::now();
-  IdentifiedInMemory out{identify_fit(c, data, progress, log, ranged), {}};
+  IdentifiedInMemory out{identify_fit(c, options, data, progress, log, ranged), {}};
   validate_model(out.fit.result.model, where);
   require_diffusion_in_data(out.fit.result.model, ranged ? *ranged : data, where);
   for (const Effect& e : out.fit.result.model.effects)  // what simulate-vehs refuses to read, never written
@@ -603,7 +525,7 @@ int run_identify(Config& c, const AppOptions& app) {
   const nlohmann::ordered_json units = units_block(c);
   const auto files = c.path_list("data");
   // an input column is read whenever the files have one: the default library takes it in, and a
-  // given library that leaves it out is warned about (tools/recorded_input.hpp)
+  // given library that leaves it out is warned about (vehs/fit/recorded_input.hpp)
   LoadedData loaded = load_measurements(c, need_u, app, true);
   {  // the library's size against the data's, before any fitting
     const double rows = static_cast<double>(loaded.data.total_samples());
@@ -617,7 +539,7 @@ int run_identify(Config& c, const AppOptions& app) {
   std::function<void(const std::string&)> log;
   if (!app.quiet) log = [](const std::string& line) { std::cerr << line << "\n"; };
   std::optional<Dataset> ranged;
-  IdentifiedInMemory identified = identify_in_memory(c, loaded.data, app.progress, log, ranged, output);
+  IdentifiedInMemory identified = identify_in_memory(c, fit_options(c), loaded.data, app.progress, log, ranged, output);
   const Dataset& data = ranged ? *ranged : loaded.data;
   identify::Result& r = identified.fit.result;
   const Refinement& refinement = identified.fit.refinement;

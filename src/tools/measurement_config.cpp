@@ -174,4 +174,10 @@ std::string with_unit(const std::string& label, const std::string& what, const n
   return unit.empty() ? label : label + " [" + unit + "]";
 }
 
+std::string input_column_name(const Config& c) {
+  if (!c.has("columns") || !c.raw("columns").is_object()) return "u";
+  const auto& col = c.raw("columns");
+  return col.contains("u") && col["u"].is_string() ? col["u"].get<std::string>() : "u";
+}
+
 }  // namespace vehs::tools

@@ -36,6 +36,9 @@ LoadedData load_measurements(const Config& c, const ReadOptions& options, bool q
 /// The reading summary for output files: gaps, missing runs, dropped pieces, largest jitter.
 nlohmann::ordered_json read_summary_json(const ReadSummary& s);
 
+/// The name of the input column the config reads: columns.u, or "u".
+std::string input_column_name(const Config& c);
+
 /// The optional `units` block ({"length": "mm", "time": "s", "input": "V"}), checked; an empty
 /// object when absent.
 nlohmann::ordered_json units_block(const Config& c);

@@ -10,7 +10,7 @@
 #include "tools/budget.hpp"
 #include "tools/figures.hpp"
 #include "tools/identify_tool.hpp"
-#include "tools/likelihood_refinement.hpp"
+#include "tools/likelihood_config.hpp"
 #include "tools/measurement_config.hpp"
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"

@@ -1,4 +1,4 @@
-// identify-vehs with the likelihood (src/tools/likelihood_refinement.cpp) through the command
+// identify-vehs with the likelihood (vehs/fit/refinement.hpp) through the command
 // line: the rule that sends coarsely sampled data to the likelihood, the refined model file with
 // its "likelihood" section, and bad input (an input interpolation the data cannot carry, options
 // out of range) as one-line errors with nothing written.
@@ -13,7 +13,7 @@
 
 #include "../likelihood/likelihood_fixtures.hpp"
 #include "stat_bounds.hpp"
-#include "tools/likelihood_refinement.hpp"
+#include "tools/likelihood_config.hpp"
 #include "tool_runs.hpp"
 #include "tools/tools.hpp"
 #include "vehs/io/measurements.hpp"
@@ -81,7 +81,7 @@ TEST_CASE("the sampling rule: omega*dt from lag-1 and lag-2 increments, insensit
   CHECK(likelihood::dominant_omega_dt(d) == Approx(0.01).margin(0.002));
 }
 
-TEST_CASE("identify-vehs: estimator auto at omega*dt 1.0 is refined by the likelihood; exact support and "
+TEST_CASE("identify-vehs: estimator auto at omega*dt 1.0 is refined by the likelihood - exact support and "
           "estimates within their standard errors",
           "[tools][likelihood][slow]") {
   const ModelFile f = refined_fit(bistable_data(0.7, 4, 1000.0, 31), "auto",
@@ -114,7 +114,7 @@ TEST_CASE("identify-vehs: estimator auto at omega*dt 1.0 is refined by the likel
 }
 
 TEST_CASE("identify-vehs: with sensor noise the bias correction is on by default (B = 8, recorded in the model "
-          "file); bias_correction 0 turns it off",
+          "file) - bias_correction 0 turns it off",
           "[tools][likelihood][bias_correction][slow]") {
   // 5 % sensor noise: its estimate stays in the model (select false), so "auto" corrects
   const Dataset clean = bistable_data(0.7, 1, 300.0, 41);
@@ -409,13 +409,13 @@ TEST_CASE("identify-vehs warns when the likelihood moves a forcing's frequency f
   moment.effects.push_back(vehs::Effect{vehs::EffectId::HarmonicForcing, {{"amplitude", 0.08}, {"omega", 1.205}, {"phase", 0.0}}, {}});
   vehs::Model refined = moment;
   refined.effects[0].params["omega"] = 49.82;
-  const auto far = vehs::tools::forcing_frequency_warnings(moment, refined);
+  const auto far = vehs::forcing_frequency_warnings(moment, refined);
   REQUIRE(far.size() == 1);
   CHECK(far[0].find("from 1.205") != std::string::npos);
   CHECK(far[0].find("to 49.82") != std::string::npos);
   refined.effects[0].params["omega"] = 1.2019;  // a refinement, not a jump
-  CHECK(vehs::tools::forcing_frequency_warnings(moment, refined).empty());
+  CHECK(vehs::forcing_frequency_warnings(moment, refined).empty());
   refined.effects[0].params["omega"] = 0.9;  // below 0.8x
-  CHECK(vehs::tools::forcing_frequency_warnings(moment, refined).size() == 1);
-  CHECK(vehs::tools::forcing_frequency_warnings(vehs::Model{}, refined).empty());
+  CHECK(vehs::forcing_frequency_warnings(moment, refined).size() == 1);
+  CHECK(vehs::forcing_frequency_warnings(vehs::Model{}, refined).empty());
 }

@@ -34,7 +34,8 @@ inline constexpr double kBandLimitedShare = 0.10;
 /// Band-limited when the input's power above 3/4 of the Nyquist frequency (Welch, records of at
 /// least 64 samples, mean removed per record) is below kBandLimitedShare of its total, else zoh.
 /// A DAC that holds a smooth waveform at the sampling clock is read as band-limited (its samples
-/// are those of a smooth signal): state `likelihood.input: "zoh"` for such a rig.
+/// are those of a smooth signal); vehs::fit then lets the likelihood decide between the two
+/// (vehs/fit/refinement.hpp).
 /// Data without an input (or too short to tell) read as zoh with the reason.
 InputReading read_input_interpolation(const Dataset& data);
 

@@ -13,13 +13,11 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "vehs/core/dataset.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/likelihood/refine.hpp"
 
-namespace vehs::tools {
+namespace vehs {
 
 /// A moment fit to start from: the estimator's name and its model, or why it failed.
 struct MomentCandidate {
@@ -54,13 +52,18 @@ struct LikelihoodStart {
 std::vector<LikelihoodStart> likelihood_starts(const std::vector<MomentCandidate>& candidates,
                                                bool estimate_measurement_noise);
 
+/// The options of a brief fit: at most kBriefRounds rounds, no selection, no bias correction,
+/// Fisher information, no log.
+likelihood::RefineOptions brief_options(const likelihood::RefineOptions& options);
+
+/// The data of a brief fit: all of `data` up to kBriefSamples, else a share of about that many
+/// (eight evenly spaced pieces of every record).
+Dataset brief_share(const Dataset& data);
+
 /// Fits every start briefly (see above) and marks the highest log L "chosen"; returns its
 /// refined model, or nothing when every brief fit failed. Logs one line per start.
 std::optional<likelihood::ObservedModel> best_start(std::vector<LikelihoodStart>& starts,
                                                     const std::vector<MomentCandidate>& candidates,
                                                     const Dataset& data, const likelihood::RefineOptions& options);
 
-/// The model file's estimator.likelihood_starts: one object per start.
-nlohmann::ordered_json likelihood_starts_json(const std::vector<LikelihoodStart>& starts);
-
-}  // namespace vehs::tools
+}  // namespace vehs

@@ -17,14 +17,11 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "tools/config.hpp"
 #include "vehs/core/dataset.hpp"
 #include "vehs/core/terms.hpp"
 #include "vehs/identify/identify.hpp"
 
-namespace vehs::tools {
+namespace vehs {
 
 struct RecordedInput {
   std::string column;             ///< the data's input column; empty when the data have none
@@ -34,19 +31,20 @@ struct RecordedInput {
   std::string warning;            ///< set when a given drift_library leaves the data's input out
 };
 
-/// The name of the input column the config reads: columns.u, or "u".
-std::string input_column_name(const Config& c);
-
 /// The drift library identify uses for driven data by default: {K1: 4, K2: 3} and u.
 std::vector<Term> driven_drift_library();
 
-/// What identify does with the data's input: when the config gives no drift_library and `data`
-/// have an input column, the driven default libraries above replace the defaults in `options`
-/// (the diffusion's only when diffusion_library is not given either; terms in keep_terms are
-/// added); a given library without u while the data have one gets a warning.
-RecordedInput use_recorded_input(const Config& c, const Dataset& data, identify::Options& options);
+/// Which of identify's libraries the user gave (the others are defaults that the data's input may
+/// replace).
+struct LibrariesGiven {
+  bool drift = false, diffusion = false;
+};
 
-/// The model file's data.input: {"column", "in_drift_library", "added", "why"} (null without an input).
-nlohmann::ordered_json recorded_input_json(const RecordedInput& input);
+/// What identify does with the data's input (named `column` in messages): when no drift library
+/// was given and `data` have an input column, the driven default libraries above replace the
+/// defaults in `options` (the diffusion's only when no diffusion library was given either; the
+/// kept terms are added); a given library without u while the data have one gets a warning.
+RecordedInput use_recorded_input(const Dataset& data, const std::string& column, LibrariesGiven given,
+                                 identify::Options& options);
 
-}  // namespace vehs::tools
+}  // namespace vehs

@@ -1,14 +1,8 @@
-#include "tools/recorded_input.hpp"
+#include "vehs/fit/recorded_input.hpp"
 
 #include <algorithm>
 
-namespace vehs::tools {
-
-std::string input_column_name(const Config& c) {
-  if (!c.has("columns") || !c.raw("columns").is_object()) return "u";
-  const auto& col = c.raw("columns");
-  return col.contains("u") && col["u"].is_string() ? col["u"].get<std::string>() : "u";
-}
+namespace vehs {
 
 std::vector<Term> driven_drift_library() {
   std::vector<Term> lib = paper_drift_library(4, 3);
@@ -31,20 +25,21 @@ std::vector<Term> with_kept(std::vector<Term> library, const std::vector<Term>& 
 
 }  // namespace
 
-RecordedInput use_recorded_input(const Config& c, const Dataset& data, identify::Options& options) {
+RecordedInput use_recorded_input(const Dataset& data, const std::string& column, LibrariesGiven given,
+                                 identify::Options& options) {
   RecordedInput r;
   if (!data.has_u()) {
     r.in_drift_library = has_drive(options.drift_library);
     return r;
   }
-  r.column = input_column_name(c);
+  r.column = column;
   const std::string col = "the recorded input '" + r.column + "'";
-  if (!c.has("drift_library")) {
+  if (!given.drift) {
     options.drift_library = with_kept(driven_drift_library(), options.keep_drift);
     r.added = true;
     r.why = col + " enters the default drift library as the term u (a driven system's input is part of its drift; "
                   "driven data's default drift library is {K1: 4, K2: 3} + u";
-    if (!c.has("diffusion_library")) {
+    if (!given.diffusion) {
       options.diffusion_library = with_kept(paper_diffusion_library(0), options.keep_diffusion);
       r.why += ", diffusion [1]";
     }
@@ -61,12 +56,4 @@ RecordedInput use_recorded_input(const Config& c, const Dataset& data, identify:
   return r;
 }
 
-nlohmann::ordered_json recorded_input_json(const RecordedInput& input) {
-  if (input.column.empty()) return nullptr;
-  return {{"column", input.column},
-          {"in_drift_library", input.in_drift_library},
-          {"added", input.added},
-          {"why", input.why}};
-}
-
-}  // namespace vehs::tools
+}  // namespace vehs

@@ -1,4 +1,4 @@
-#include "tools/likelihood_starts.hpp"
+#include "vehs/fit/likelihood_starts.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -8,7 +8,7 @@
 #include "vehs/core/error.hpp"
 #include "vehs/likelihood/detail/data_share.hpp"
 
-namespace vehs::tools {
+namespace vehs {
 
 namespace {
 
@@ -62,9 +62,7 @@ std::vector<LikelihoodStart> likelihood_starts(const std::vector<MomentCandidate
   return out;
 }
 
-std::optional<likelihood::ObservedModel> best_start(std::vector<LikelihoodStart>& starts,
-                                                    const std::vector<MomentCandidate>& candidates,
-                                                    const Dataset& data, const likelihood::RefineOptions& options) {
+likelihood::RefineOptions brief_options(const likelihood::RefineOptions& options) {
   likelihood::RefineOptions brief = options;
   brief.select = false;
   brief.bias_correction_datasets = 0;
@@ -72,10 +70,19 @@ std::optional<likelihood::ObservedModel> best_start(std::vector<LikelihoodStart>
   brief.covariance = likelihood::Covariance::Fisher;
   brief.max_rounds = std::min(options.max_rounds, kBriefRounds);
   brief.log = {};
+  return brief;
+}
+
+Dataset brief_share(const Dataset& data) {
   const std::size_t n = data.total_samples();
-  const Dataset share =
-      n > kBriefSamples ? likelihood::detail::warm_start_share(data, double(kBriefSamples) / double(n), false) : Dataset{};
-  const Dataset& on = n > kBriefSamples ? share : data;
+  return n > kBriefSamples ? likelihood::detail::warm_start_share(data, double(kBriefSamples) / double(n), false) : data;
+}
+
+std::optional<likelihood::ObservedModel> best_start(std::vector<LikelihoodStart>& starts,
+                                                    const std::vector<MomentCandidate>& candidates,
+                                                    const Dataset& data, const likelihood::RefineOptions& options) {
+  const likelihood::RefineOptions brief = brief_options(options);
+  const Dataset on = brief_share(data);
   std::optional<likelihood::ObservedModel> best;
   LikelihoodStart* chosen = nullptr;
   for (LikelihoodStart& s : starts) {
@@ -104,17 +111,4 @@ std::optional<likelihood::ObservedModel> best_start(std::vector<LikelihoodStart>
   return best;
 }
 
-nlohmann::ordered_json likelihood_starts_json(const std::vector<LikelihoodStart>& starts) {
-  nlohmann::ordered_json j = nlohmann::ordered_json::array();
-  for (const LikelihoodStart& s : starts) {
-    nlohmann::ordered_json e;
-    e["start"] = s.name;
-    if (s.measurement_sd > 0.0) e["measurement_sd_start"] = s.measurement_sd;
-    if (std::isfinite(s.log_likelihood)) e["log_likelihood"] = s.log_likelihood, e["seconds"] = s.seconds;
-    e["status"] = s.status;
-    j.push_back(e);
-  }
-  return j;
-}
-
-}  // namespace vehs::tools
+}  // namespace vehs

@@ -1,46 +1,50 @@
 #pragma once
-// identify-vehs's likelihood step: the `likelihood` config block, the decision to refine the
-// moment fit by maximum likelihood (on request, or when vehs/likelihood/adequacy.hpp cannot
-// vouch for the expansions) and the refined model with its typed FitInfo::likelihood.
+// The fit's likelihood step: the decision to refine the moment fit by maximum likelihood (on
+// request, or when vehs/likelihood/adequacy.hpp cannot vouch for the expansions), its starts
+// (vehs/fit/likelihood_starts.hpp) and the refined model with its typed FitInfo::likelihood.
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "tools/config.hpp"
-#include "tools/likelihood_starts.hpp"
 #include "vehs/core/dataset.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/fit/likelihood_starts.hpp"
 #include "vehs/likelihood/adequacy.hpp"
 #include "vehs/likelihood/refine.hpp"
 
-namespace vehs::tools {
+namespace vehs {
 
+/// When the likelihood refines the moment fit: on request (Always), never, or when the sampling
+/// cannot vouch for the moment estimators (Auto).
 enum class LikelihoodUse { Auto, Always, Never };
-
-struct LikelihoodSettings {
-  LikelihoodUse use = LikelihoodUse::Auto;
-  likelihood::RefineOptions options;
-  /// `input: "auto"` (the default): how a recorded input was applied is read from its spectrum
-  /// (vehs/likelihood/input_reading.hpp) instead of options.filter.input.
-  bool input_auto = true;
-};
 
 /// B of `bias_correction: "auto"` (the default): B data sets when the final fit estimates the
 /// measurement noise (and has one shared harmonic phase), else none; skipped, not thrown, when
 /// the estimate cannot be simulated (RefineOptions::bias_correction_auto).
 inline constexpr int kAutoBiasCorrectionDatasets = 8;
 
-/// The help text of the `likelihood` key.
-extern const char* const kLikelihoodHelp;
-
-/// Settings from the config's `estimator` (\"likelihood\": always) and `likelihood` block
-/// (present: always unless its `use` says otherwise; absent: auto with estimator auto, never
-/// with an explicitly named moment estimator).
-LikelihoodSettings likelihood_settings(const Config& c);
-
-/// The estimator string for identify's moment fit ("likelihood" → "auto").
-std::string moment_estimator_name(const Config& c);
+struct LikelihoodSettings {
+  LikelihoodSettings();  ///< the defaults: auto use, selection, observed information, auto bias correction
+  LikelihoodUse use = LikelihoodUse::Auto;
+  likelihood::RefineOptions options;
+  /// `input: "auto"` (the default): how a recorded input was applied is read from its spectrum
+  /// (vehs/likelihood/input_reading.hpp) instead of options.filter.input, then decided by the
+  /// likelihood: the start fitted briefly under zoh and under band_limited, the higher log L kept
+  /// (records of at least 16 samples; the reason names both).
+  bool input_auto = true;
+  /// The start of the refinement besides the moment fit's coefficients: the sensor noise (NaN:
+  /// the moment fit's), one forcing phase per record and the effects' parameters (each replaces the
+  /// moment fit's effect of that id) — a refit of a model already fitted starts where it was.
+  double start_measurement_sd = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> start_record_phases;
+  std::vector<Effect> start_effects;
+  /// false: the moment fit's FitInfo is kept (without a likelihood section) and its standard
+  /// errors are the refinement's own (diagnose's refits); true: FitInfo::likelihood and the
+  /// standard errors from the likelihood's covariance.
+  bool record_fit_info = true;
+};
 
 struct Refinement {
   likelihood::SamplingAdequacy adequacy;
@@ -74,7 +78,7 @@ using MomentFit = std::function<Model(const Dataset&)>;
 ///
 /// With `others` (and without per_record_phase) the likelihood has several starts: the given
 /// moment fit and the other moment fits `others` returns (called only when the likelihood runs),
-/// fitted briefly (tools/likelihood_starts.hpp); the full refinement runs from the highest log L,
+/// fitted briefly (vehs/fit/likelihood_starts.hpp); the full refinement runs from the highest log L,
 /// `model` is that start's moment fit before it is refined, and Refinement::starts lists them all.
 Refinement refine_moment_fit(Model& model, const Dataset& data, const LikelihoodSettings& settings,
                              const MomentFit& moment_fit = {}, const MomentCandidates& others = {});
@@ -85,4 +89,4 @@ Refinement refine_moment_fit(Model& model, const Dataset& data, const Likelihood
 void check_input_interpolation(InputInterpolation how, const Dataset& data, bool model_has_drive,
                                const std::string& where);
 
-}  // namespace vehs::tools
+}  // namespace vehs
