@@ -3,6 +3,7 @@
 // the random numbers of twin replicate 0, and the covariance of the shifts of the
 // parameter-sensitive statistics (rescaled to the data size) is added to their tests.
 #include <exception>
+#include <string>
 
 #include "comparison.hpp"
 #include "vehs/core/error.hpp"
@@ -50,14 +51,25 @@ int parameter_uncertainty(const Comparison& cmp, const std::vector<PairedStatist
     Dataset pseudo, star_twin;
     std::vector<UnitStats> star(units.size());
     vehs::detail::ProgressCounter pprog(opt.progress, "parameter draws", opt.parameter_draws);
+    int rejected = 0;
+    std::string rejection;
     try {
       if (!record_phases_of(model).empty())  // identify's moment fit has one shared phase
         throw Error("a harmonic_forcing phase per record cannot be refitted by the moment estimators");
-      for (int b = 0; b < opt.parameter_draws; ++b) {
-        pseudo_sim.simulate(b, pseudo);
-        const Model mstar = identify::identify(pseudo, io).model;
-        TwinSimulator star_sim(mstar, data, ts);  // same seed as twin replicate 0
-        star_sim.simulate(0, star_twin);
+      for (int attempt = 0; draws < opt.parameter_draws; ++attempt) {
+        // a draw whose refit fails (an estimate outside the model's domain, a22 < 0 where its twin
+        // goes) is rejected and redrawn from the next pseudo-data: one failure no longer drops the
+        // uncertainty; the replicates before the first failure are those of a run without one
+        try {
+          pseudo_sim.simulate(attempt, pseudo);
+          const Model mstar = identify::identify(pseudo, io).model;
+          TwinSimulator star_sim(mstar, data, ts);  // same seed as twin replicate 0
+          star_sim.simulate(0, star_twin);
+        } catch (const std::exception& e) {
+          if (rejected++ == 0) rejection = e.what();
+          if (rejected > opt.parameter_draws) throw Error(std::to_string(rejected) + " draws failed: " + rejection);
+          continue;
+        }
 #pragma omp parallel for schedule(dynamic, 1)
         for (long j = 0; j < static_cast<long>(units.size()); ++j) {
           const UnitSpan& sp = units[static_cast<std::size_t>(j)];
@@ -80,6 +92,9 @@ int parameter_uncertainty(const Comparison& cmp, const std::vector<PairedStatist
         ++draws;
         pprog.advance();
       }
+      if (rejected > 0)
+        res.warnings.push_back(std::to_string(rejected) + " of " + std::to_string(draws + rejected) +
+                               " parameter draws were rejected and redrawn (the first: " + rejection + ")");
     } catch (const std::exception& e) {
       res.warnings.push_back(std::string("the model's parameter uncertainty could not be estimated (") + e.what() +
                              "); the stationary tests ignore it");
