@@ -175,7 +175,41 @@ def diagnose(model, x, dt=None, u=None, report=None, label="model", progress=Non
     text, html = _vehs.diagnose(_core(model), records._core, options_json("vehs.diagnose", options),
                                 "" if report is None else str(report), label, progress)
     result = json.loads(text)
-    suspects = result.get("suspects", {})
-    ranked = suspects.get("ranked", []) if isinstance(suspects, dict) else suspects
-    return Diagnosis(verdict=result["verdict"], score=result["score"], suspects=ranked, report=html or None,
-                     result=result)
+    return Diagnosis(verdict=result["verdict"], score=result["score"], suspects=ranked_suspects(result),
+                     report=html or None, result=result)
+
+
+_STATUS_ORDER = {"recommended": 0, "significant": 1, "not significant": 2, "set aside": 3}
+
+
+def ranked_suspects(result):
+    """Every suspect of a diagnosis once, what it recommends first: the recommended effects (in its
+    order), then the significant ones (score tests by z, then held-out evidence), then the rest, and
+    last the held-out suspects of a split that was set aside ("not a test on these data"). Each entry
+    is the diagnosis file's entry with ``source`` ("score test" or "held-out") and ``status``."""
+    recommended = list(result.get("recommended") or [])
+    set_aside = bool(result.get("suspects_heldout", {}).get("set_aside"))
+    entries = []
+    for e in result.get("score_suspects") or []:
+        entries.append(dict(e, source="score test"))
+    for e in result.get("suspects") or []:
+        entries.append(dict(e, source="held-out"))
+    for e in entries:
+        if e["effect"] in recommended:
+            e["status"] = "recommended"
+        elif e["source"] == "held-out" and set_aside:
+            e["status"] = "set aside"
+        else:
+            e["status"] = "significant" if e.get("significant") else "not significant"
+
+    def key(e):
+        rank = recommended.index(e["effect"]) if e["status"] == "recommended" else 0
+        z = e.get("z")
+        return (_STATUS_ORDER[e["status"]], rank, e["source"] != "score test", -(z if isinstance(z, (int, float)) else 0.0))
+
+    out, seen = [], set()
+    for e in sorted(entries, key=key):
+        if e["effect"] not in seen:
+            seen.add(e["effect"])
+            out.append(e)
+    return out

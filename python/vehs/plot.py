@@ -158,17 +158,19 @@ def density(stationary, fig=None):
 
 
 def suspects(diagnosis, ax=None):
-    """The suspects (missing effects) ranked by held-out evidence, as a table."""
+    """The suspects (missing effects) as a table, what the diagnosis recommends first and suspects
+    of a set-aside split last (Diagnosis.suspects)."""
     ax = _axes(ax, figsize=(7, 0.4 * (len(diagnosis.suspects) + 2)))
     rows = []
     for s in diagnosis.suspects:
         params = ", ".join(f"{k} = {v:.3g}" for k, v in list((s.get("params") or {}).items())[:3])
-        rows.append([s["effect"], f"{float(s['evidence']):.1f}", f"{float(s['z']):.1f}",
-                     "yes" if s.get("significant") else "", params])
+        z = s.get("z")
+        rows.append([s["effect"], s["source"], f"{float(z):.1f}" if isinstance(z, (int, float)) else "",
+                     s["status"], params])
     ax.axis("off")
     ax.set_title(f"verdict: {diagnosis.verdict}, score {diagnosis.score:.3g}")
     if rows:
-        table = ax.table(cellText=rows, colLabels=["suspect", "evidence (nats)", "z", "claimed", "fitted"],
+        table = ax.table(cellText=rows, colLabels=["suspect", "evidence", "z", "status", "fitted"],
                          loc="center")
         table.auto_set_font_size(False)
         table.set_fontsize(8)

@@ -321,13 +321,20 @@ int run_diagnose(Config& c, const AppOptions& app) {
                                          (comp.test.p_value < r.threshold ? "  FAILED" : ""))
                                             .c_str()
                                       : ("not available: " + comp.test.note).c_str());
-    if (!r.suspects.ranked.empty()) {
+    // held-out suspects of a split set aside come last: they are not a test on these data
+    const bool aside = !r.suspects.set_aside.empty();
+    const auto print_heldout = [&] {
+      if (r.suspects.ranked.empty()) return;
       std::printf("suspects (held-out evidence, nats)%s:\n",
-                  r.suspects.set_aside.empty() ? "" : "; SET ASIDE, not a test on these data (see the report)");
+                  aside ? "; SET ASIDE, not a test on these data (see the report)" : "");
       for (const auto& s : r.suspects.ranked)
         std::printf("  %-26s %10s  z = %6s%s\n", s.effect.c_str(), g(s.evidence).c_str(), g(s.z, 3).c_str(),
-                    s.significant ? "  claimed" : !s.outside_domain.empty() ? ("  not claimed: " + s.outside_domain).c_str() : "");
-    }
+                    aside ? "  set aside"
+                    : s.significant ? "  claimed"
+                    : !s.outside_domain.empty() ? ("  not claimed: " + s.outside_domain).c_str()
+                                                : "");
+    };
+    if (!aside) print_heldout();
     if (!r.score_suspects.ranked.empty()) {
       std::printf("score suspects (likelihood, all data):\n");
       for (const auto& s : r.score_suspects.ranked)
@@ -338,6 +345,7 @@ int run_diagnose(Config& c, const AppOptions& app) {
       std::printf("confirmation by held-out refits (%s):\n", r.confirmation.criterion.c_str());
       for (const auto& e : r.confirmation.effects) std::printf("  %-28s %s\n", e.effect.c_str(), e.reason.c_str());
     }
+    if (aside) print_heldout();
     for (const auto& w : r.warnings) std::printf("warning: %s\n", w.c_str());
     std::printf("conclusion: %s\n", r.conclusion.c_str());
     std::printf("%s\n", next_step(r, &model).c_str());
