@@ -56,18 +56,8 @@ class MomentSystem {
     u_ = u;
   }
 
-  /// The time update's linearisation at a Gaussian state: E[f] (the means' rates), the Jacobian
-  /// E[∂f] and the noise matrix G Gᵀ (block_filter.hpp's covariance-preserving fallback step).
-  struct Linearisation {
-    Eigen::Matrix<T, D, 1> rate;
-    Eigen::Matrix<T, D, D> jacobian, noise;
-  };
-
   /// ds/dt; false when E[a22] < 0 or a variance is not positive (outside the model's domain).
-  VEHS_FLATTEN bool operator()(double t, const State& s, State& ds) const { return evaluate(t, s, ds, nullptr); }
-
-  /// As operator(), also filling `lin` when it is not null.
-  VEHS_FLATTEN bool evaluate(double t, const State& s, State& ds, Linearisation* lin) const {
+  VEHS_FLATTEN bool operator()(double t, const State& s, State& ds) const {
     using std::cos;
     using std::sqrt;
     const T& mx = s[0];
@@ -161,24 +151,6 @@ class MomentSystem {
         for (int j = i; j < 4; ++j) ds[Pk::p(i, j)] = fp[i][j] + fp[j][i];
       ds[Pk::p(1, 1)] += q;
       if (st_.colored) ds[Pk::p(3, 3)] += c_.intensity * inv_tau * inv_tau;
-    }
-    if (lin) {
-      lin->jacobian.setZero();
-      lin->noise.setZero();
-      for (int i = 0; i < D; ++i) lin->rate[i] = ds[i];
-      lin->jacobian(0, 1) = T(1.0);
-      lin->jacobian(1, 0) = gx;
-      lin->jacobian(1, 1) = gy;
-      lin->noise(1, 1) = q;
-      if constexpr (D == 4) {
-        lin->jacobian(1, 2) = gv;
-        lin->jacobian(1, 3) = ge;
-        if (st_.electro) lin->jacobian(2, 1) = T(1.0), lin->jacobian(2, 2) = -c_.lambda;
-        if (st_.colored) {
-          lin->jacobian(3, 3) = -1.0 / c_.tau;
-          lin->noise(3, 3) = c_.intensity / (c_.tau * c_.tau);
-        }
-      }
     }
     return true;
   }
