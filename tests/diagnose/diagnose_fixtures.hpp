@@ -39,6 +39,17 @@ struct DataSpec {
   double sensor_noise = 0.0;
 };
 
+/// 16 records of 6000 samples from a continuous process (Taylor 1.5, 10 substeps): a sensor's data.
+inline DataSpec sensor_records(std::uint64_t seed) {
+  DataSpec s;
+  s.records = 16;
+  s.samples = 6000;
+  s.substeps = 10;
+  s.scheme = vehs::sim::Scheme::Taylor15;
+  s.seed = seed;
+  return s;
+}
+
 inline vehs::Dataset simulate(const vehs::Model& m, const DataSpec& s) {
   vehs::sim::SimulationOptions o;
   o.dt = s.dt;

@@ -38,12 +38,7 @@ void require_identical(const Result& a, const Result& b) {
 TEST_CASE("a model identified in C++, read from its file, or built by hand diagnoses identically",
           "[diagnose][fit_info]") {
   // a sensor sampling a continuous process: identify chooses central kinematics (uli)
-  DataSpec s;
-  s.records = 16;
-  s.samples = 6000;
-  s.substeps = 10;
-  s.scheme = vehs::sim::Scheme::Taylor15;
-  s.seed = 31;
+  const DataSpec s = sensor_records(31);
   const vehs::Dataset d = simulate(bistable(), s);
   const vehs::Model identified = fit(d, {"x", "x^3", "y"}, {"1", "x^2"});
   REQUIRE(identified.fit);

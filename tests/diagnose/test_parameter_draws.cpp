@@ -11,12 +11,7 @@ TEST_CASE("diagnose: a parameter draw whose refit leaves the domain is redrawn a
   // a hardening Duffing with a constant diffusion, fitted with a22 = 2D + 2Q x^2: Q is 0 within its
   // standard error, so refits on pseudo-data put it below 0 about half of the time, and the twins'
   // simulator refuses a22 < 0 (an outside trial's verdict came without parameter uncertainty)
-  DataSpec s;
-  s.records = 16;
-  s.samples = 6000;
-  s.substeps = 10;
-  s.scheme = vehs::sim::Scheme::Taylor15;
-  s.seed = 41;
+  const DataSpec s = sensor_records(41);
   const vehs::Model truth = model_of(R"({"drift": {"x": -1.0, "x^3": -0.5, "y": -0.1}, "diffusion": {"1": 0.02}})");
   const vehs::Dataset d = simulate(truth, s);
   const vehs::Model m = fit(d, {"x", "x^3", "y"}, {"1", "x^2"});
