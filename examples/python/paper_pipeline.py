@@ -86,7 +86,7 @@ def main():
     d1 = vehs.diagnose(v1, data, report=os.path.join(args.out, "friction_report"), label="v1: paper dictionaries", **check)
     print(f"  v1: verdict {d1.verdict}, score {d1.score:.3g}")
     for s in d1.suspects[:3]:
-        print(f"     suspect {s['effect']:<22} evidence {float(s['evidence']):8.1f} nats, z {float(s['z']):5.1f}")
+        print(f"     suspect {s['effect']:<22} {s['status']:<16} ({s['source']}), z {float(s['z']):5.1f}")
     top = d1.suspects[0]["effect"]
     v2, _ = vehs.identify(data, effects=[top])
     d2 = vehs.diagnose(v2, data, report=os.path.join(args.out, "friction_report"), label=f"v2: + {top}", **check)
