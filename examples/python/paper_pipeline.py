@@ -86,7 +86,8 @@ def main():
     d1 = vehs.diagnose(v1, data, report=os.path.join(args.out, "friction_report"), label="v1: paper dictionaries", **check)
     print(f"  v1: verdict {d1.verdict}, score {d1.score:.3g}")
     for s in d1.suspects[:3]:
-        print(f"     suspect {s['effect']:<22} {s['status']:<16} ({s['source']}), z {float(s['z']):5.1f}")
+        z = f"{float(s['z']):5.1f}" if isinstance(s.get("z"), (int, float)) else "  n/a"
+        print(f"     suspect {s['effect']:<22} {s['status']:<16} ({s['source']}), z {z}")
     top = d1.suspects[0]["effect"]
     v2, _ = vehs.identify(data, effects=[top])
     d2 = vehs.diagnose(v2, data, report=os.path.join(args.out, "friction_report"), label=f"v2: + {top}", **check)

@@ -25,6 +25,13 @@ int fit_folds(const FitOptions& options, std::size_t samples) {
   return static_cast<int>(std::clamp<std::size_t>(samples / 100, 2, static_cast<std::size_t>(folds)));
 }
 
+std::string folds_problem(const FitOptions& options, std::size_t samples) {
+  const int folds = fit_folds(options, samples);
+  if (static_cast<std::size_t>(folds) * 100 <= samples) return "";
+  return "= " + std::to_string(folds) + " leaves fewer than 100 samples per fold (the data have " +
+         std::to_string(samples) + ")";
+}
+
 namespace {
 
 /// The effects' parameters of the model the likelihood refined (the moment fit's are left in
@@ -79,6 +86,7 @@ identify::Options moment_options(const Dataset& data, const FitOptions& options,
   o.progress = options.progress;
   input = use_recorded_input(data, options.input_column, options.libraries_given, o);
   if (options.log && input.added) options.log("identify: " + input.why);
+  if (const std::string why = folds_problem(options, data.total_samples()); !why.empty()) throw Error("folds " + why);
   o.folds = fit_folds(options, data.total_samples());
   return o;
 }

@@ -440,9 +440,7 @@ vehs::FitSummary identify_fit(const Config& c, FitOptions f, const Dataset& load
   f.log = log;
   if (c.has("samples")) ranged = sample_range(c, loaded);
   const Dataset& data = ranged ? *ranged : loaded;
-  if (const int folds = fit_folds(f, data.total_samples()); static_cast<std::size_t>(folds) * 100 > data.total_samples())
-    c.fail("folds", "= " + std::to_string(folds) + " leaves fewer than 100 samples per fold (the data have " +
-                        std::to_string(data.total_samples()) + ")");
+  if (const std::string why = folds_problem(f, data.total_samples()); !why.empty()) c.fail("folds", why);
   try {
     return fit(data, f);
   } catch (const Error& e) {  // a DC offset makes 1, x, x², … collinear: say the cure

@@ -149,3 +149,15 @@ TEST_CASE("fit - a smooth input held by a DAC is read as held by the likelihood 
     CHECK(std::abs(m.drift_coef(term) - truth) < 4.5 * m.drift_stderr.at(term));
   }
 }
+
+TEST_CASE("fit - folds that leave fewer than 100 samples each are refused with one line") {
+  const vehs::Dataset d = driven(0.1, 600, 3);
+  vehs::FitOptions o;
+  o.likelihood.use = vehs::LikelihoodUse::Never;
+  o.moment.folds = 10;
+  o.folds_given = true;
+  CHECK_THROWS_WITH(vehs::fit(d, o), Catch::Contains("folds = 10 leaves fewer than 100 samples per fold"));
+  o.folds_given = false;  // the default is fitted to the data: 6 folds
+  CHECK(vehs::fit_folds(o, d.total_samples()) == 6);
+  CHECK_NOTHROW(vehs::fit(d, o));
+}

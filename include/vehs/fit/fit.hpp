@@ -69,6 +69,9 @@ struct FitSummary {
 /// (under the BIC criterion, where they only feed the CV figures) fewer on small data.
 int fit_folds(const FitOptions& options, std::size_t samples);
 
+/// Why those folds cannot be used ("= 12 leaves fewer than 100 samples per fold ..."), else "".
+std::string folds_problem(const FitOptions& options, std::size_t samples);
+
 /// Fits `data` under `options` (see the header comment). Throws a one-line vehs::Error for
 /// invalid options, data that fail a check under an Error rule, or data the moment fit cannot
 /// read; a likelihood whose filter diverges leaves the moment fit standing, with the reason in
