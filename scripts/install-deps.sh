@@ -9,6 +9,8 @@ packages=(
   libcli11-dev libfast-float-dev libbenchmark-dev
   # Ceres Solver: maximum likelihood with automatic derivatives (likelihood area)
   libceres-dev
+  # muParser: the expressions of user-defined terms (src/core/user_function.cpp)
+  libmuparser-dev
   # MATLAB .mat measurement files (src/io/mat_reader.cpp)
   libmatio-dev
   gnuplot-nox chromium

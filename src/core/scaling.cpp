@@ -25,8 +25,16 @@ double term_scale(const Term& t, const Scales& s) {
     case TermKind::SignY: return 1.0;
     case TermKind::YAbsY: return v * v;
     case TermKind::Drive: return s.input;
+    case TermKind::User: return 1.0;  // its function is rescaled instead (rescale_user_terms)
   }
   return 1.0;
+}
+
+/// User terms evaluated at the other units' state: g(L^−power·x, …) (k = scale^−power).
+void rescale_user_terms(TermList& terms, const Scales& s, int power) {
+  const double kx = std::pow(s.length, -power), ky = std::pow(s.length / s.time, -power),
+               ku = std::pow(s.input, -power);
+  for (auto& tc : terms) tc.term = rescaled(tc.term, kx, ky, ku);
 }
 
 double acceleration(const Scales& s) { return s.length / (s.time * s.time); }
@@ -59,11 +67,18 @@ void scale_terms(TermList& terms, std::map<std::string, double>& errors, double 
   }
 }
 
+std::vector<Term> terms_to_internal(std::vector<Term> terms, const Scales& s) {
+  for (auto& t : terms) t = rescaled(t, s.length, s.length / s.time, s.input);
+  return terms;
+}
+
 Model convert(const Model& in, const Scales& s, int power) {
   if (auto why = s.invalid_reason(); !why.empty()) throw Error("scales: " + why);
   Model m = in;
   scale_terms(m.drift, m.drift_stderr, drift_coefficient_scale, s, power);
   scale_terms(m.diffusion, m.diffusion_stderr, diffusion_coefficient_scale, s, power);
+  rescale_user_terms(m.drift, s, power);
+  rescale_user_terms(m.diffusion, s, power);
   for (auto& e : m.effects) e = scale_effect(e, s, power);
   if (!m.covariance.empty()) {
     std::vector<double> f(m.covariance.size());
@@ -176,5 +191,7 @@ Dataset to_internal(const Dataset& data, const Scales& s) {
 
 Model to_physical(const Model& internal, const Scales& s) { return convert(internal, s, +1); }
 Model to_internal(const Model& physical, const Scales& s) { return convert(physical, s, -1); }
+
+std::vector<Term> to_internal(std::vector<Term> terms, const Scales& s) { return terms_to_internal(std::move(terms), s); }
 
 }  // namespace vehs

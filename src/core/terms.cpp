@@ -11,7 +11,7 @@ namespace vehs {
 
 Term Term::monomial(int px, int py) {
   require(px >= 0 && py >= 0, "monomial powers must be non-negative");
-  return Term{TermKind::Monomial, px, py};
+  return Term{TermKind::Monomial, px, py, nullptr};
 }
 
 namespace {
@@ -36,16 +36,42 @@ bool parse_factor(std::string_view f, char& var, int& power) {
   return ec == std::errc() && p == e && power >= 2 && power <= 64 && *b != '0';
 }
 
+/// The canonical grammar into `out`; false on anything else.
+bool parse_canonical(std::string_view name, Term& out);
+
 }  // namespace
 
 Term Term::parse(std::string_view name) {
-  auto fail = [&]() -> Term {
+  Term t;
+  if (parse_canonical(name, t)) return t;
+  std::string compact;
+  for (char c : name)
+    if (c != ' ' && c != '\t') compact += c;
+  if (compact != name && parse_canonical(compact, t)) return t;
+  // a product of powers of x and y must be written canonically ("x^2*y", not "y*x^2" or "x^02"):
+  // an expression for it would be a second name of the same term
+  if (compact.find_first_not_of("xy0123456789^*") == std::string::npos)
     throw Error("unknown term '" + std::string(name) + "': " + kGrammar);
+  try {
+    return user(UserFunction::parse(name));
+  } catch (const Error& e) {
+    throw Error("unknown term '" + std::string(name) + "': " + kGrammar +
+                ", or an expression in x, y, u (" + e.what() + ")");
+  }
+}
+
+namespace {
+
+bool parse_canonical(std::string_view name, Term& out) {
+  auto fail = [] { return false; };
+  auto done = [&](Term t) {
+    out = std::move(t);
+    return true;
   };
-  if (name == "1") return monomial(0, 0);
-  if (name == "sign(y)") return sign_y();
-  if (name == "y*|y|") return y_abs_y();
-  if (name == "u") return drive();
+  if (name == "1") return done(Term::monomial(0, 0));
+  if (name == "sign(y)") return done(Term::sign_y());
+  if (name == "y*|y|") return done(Term::y_abs_y());
+  if (name == "u") return done(Term::drive());
   int px = 0, py = 0;
   const auto star = name.find('*');
   std::string_view first = name.substr(0, star);
@@ -54,20 +80,23 @@ Term Term::parse(std::string_view name) {
   if (!parse_factor(first, v1, p1)) return fail();
   if (star == std::string_view::npos) {
     (v1 == 'x' ? px : py) = p1;
-    return monomial(px, py);
+    return done(Term::monomial(px, py));
   }
   std::string_view second = name.substr(star + 1);
   char v2 = 0;
   int p2 = 0;
   if (v1 != 'x' || !parse_factor(second, v2, p2) || v2 != 'y') return fail();
-  return monomial(p1, p2);
+  return done(Term::monomial(p1, p2));
 }
+
+}  // namespace
 
 std::string Term::name() const {
   switch (kind) {
     case TermKind::SignY: return "sign(y)";
     case TermKind::YAbsY: return "y*|y|";
     case TermKind::Drive: return "u";
+    case TermKind::User: return fn->text();
     case TermKind::Monomial: break;
   }
   if (px == 0 && py == 0) return "1";
@@ -82,8 +111,42 @@ std::string Term::name() const {
   return s;
 }
 
+bool Term::depends_on_y() const {
+  switch (kind) {
+    case TermKind::Monomial: return py > 0;
+    case TermKind::Drive: return false;
+    case TermKind::User: return fn->uses_y();
+    default: return true;
+  }
+}
+
 namespace {
 inline double sgn(double y) { return (y > 0) - (y < 0); }
+
+// Central differences of a user's function: steps relative to the point (internal units are
+// O(1)); a jump inside the stencil shows as a spike of width 2h, like sign(y)'s box kernel.
+constexpr double kStep1 = 1e-6, kStep2 = 1e-4;
+inline double step(double z, double h) { return h * (1.0 + std::abs(z)); }
+double user_dx(const UserFunction& f, double x, double y, double u) {
+  const double h = step(x, kStep1);
+  return (f(x + h, y, u) - f(x - h, y, u)) / (2.0 * h);
+}
+double user_dy(const UserFunction& f, double x, double y, double u) {
+  const double h = step(y, kStep1);
+  return (f(x, y + h, u) - f(x, y - h, u)) / (2.0 * h);
+}
+double user_dxx(const UserFunction& f, double x, double y, double u) {
+  const double h = step(x, kStep2);
+  return (f(x + h, y, u) - 2.0 * f(x, y, u) + f(x - h, y, u)) / (h * h);
+}
+double user_dyy(const UserFunction& f, double x, double y, double u) {
+  const double h = step(y, kStep2);
+  return (f(x, y + h, u) - 2.0 * f(x, y, u) + f(x, y - h, u)) / (h * h);
+}
+double user_dxy(const UserFunction& f, double x, double y, double u) {
+  const double hx = step(x, kStep2), hy = step(y, kStep2);
+  return (f(x + hx, y + hy, u) - f(x + hx, y - hy, u) - f(x - hx, y + hy, u) + f(x - hx, y - hy, u)) / (4.0 * hx * hy);
+}
 // d/dz z^n, d²/dz² z^n
 inline double dpow(double z, int n) { return n == 0 ? 0.0 : n * ipow(z, n - 1); }
 inline double d2pow(double z, int n) { return n < 2 ? 0.0 : n * (n - 1) * ipow(z, n - 2); }
@@ -95,44 +158,59 @@ double Term::value(double x, double y, double u) const {
     case TermKind::SignY: return sgn(y);
     case TermKind::YAbsY: return y * std::abs(y);
     case TermKind::Drive: return u;
+    case TermKind::User: return (*fn)(x, y, u);
   }
   return 0.0;
 }
 
-double Term::d_dx(double x, double y) const {
+double Term::d_dx(double x, double y, double u) const {
+  if (kind == TermKind::User) return user_dx(*fn, x, y, u);
   return kind == TermKind::Monomial ? dpow(x, px) * ipow(y, py) : 0.0;
 }
 
-double Term::d_dy(double x, double y) const {
+double Term::d_dy(double x, double y, double u) const {
   switch (kind) {
     case TermKind::Monomial: return ipow(x, px) * dpow(y, py);
     case TermKind::YAbsY: return 2.0 * std::abs(y);
+    case TermKind::User: return user_dy(*fn, x, y, u);
     default: return 0.0;
   }
 }
 
-double Term::d2_dy2(double x, double y) const {
+double Term::d2_dy2(double x, double y, double u) const {
   switch (kind) {
     case TermKind::Monomial: return ipow(x, px) * d2pow(y, py);
     case TermKind::YAbsY: return 2.0 * sgn(y);
+    case TermKind::User: return user_dyy(*fn, x, y, u);
     default: return 0.0;
   }
 }
 
-double Term::d2_dx2(double x, double y) const {
+double Term::d2_dx2(double x, double y, double u) const {
+  if (kind == TermKind::User) return user_dxx(*fn, x, y, u);
   return kind == TermKind::Monomial ? d2pow(x, px) * ipow(y, py) : 0.0;
 }
 
-double Term::d2_dxdy(double x, double y) const {
+double Term::d2_dxdy(double x, double y, double u) const {
+  if (kind == TermKind::User) return user_dxy(*fn, x, y, u);
   return kind == TermKind::Monomial ? dpow(x, px) * dpow(y, py) : 0.0;
 }
 
+Term rescaled(const Term& t, double kx, double ky, double ku) {
+  if (t.kind != TermKind::User) return t;
+  return Term::user(t.fn->rescaled(kx, ky, ku));
+}
+
 bool operator<(const Term& a, const Term& b) {
+  if (a.kind == TermKind::User && b.kind == TermKind::User)
+    return std::make_tuple(a.fn->text(), a.fn->scales()) < std::make_tuple(b.fn->text(), b.fn->scales());
   return std::make_tuple(static_cast<int>(a.kind), a.py, a.px) <
          std::make_tuple(static_cast<int>(b.kind), b.py, b.px);
 }
 
 bool operator==(const Term& a, const Term& b) {
+  if (a.kind == TermKind::User || b.kind == TermKind::User)
+    return a.kind == b.kind && a.fn->text() == b.fn->text() && a.fn->scales() == b.fn->scales();
   return a.kind == b.kind && a.px == b.px && a.py == b.py;
 }
 

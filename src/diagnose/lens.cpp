@@ -17,12 +17,15 @@ CompiledTerms::CompiledTerms(const TermList& terms) {
       case TermKind::SignY: sign_ += tc.coef; break;
       case TermKind::YAbsY: yabs_ += tc.coef; break;
       case TermKind::Drive: u_ += tc.coef; break;
+      case TermKind::User: user_.push_back(tc); break;
     }
   }
 }
 
 bool CompiledTerms::depends_on_y() const {
   if (sign_ != 0.0 || yabs_ != 0.0) return true;
+  for (const auto& tc : user_)
+    if (tc.term.depends_on_y()) return true;
   for (const auto& m : mono_)
     if (m.py > 0) return true;
   return false;
@@ -46,6 +49,7 @@ double CompiledTerms::value(double x, double y, double u) const {
   if (sign_ != 0.0) s += sign_ * sgn(y);
   if (yabs_ != 0.0) s += yabs_ * y * std::abs(y);
   if (u_ != 0.0) s += u_ * u;
+  for (const auto& tc : user_) s += tc.coef * tc.term.value(x, y, u);
   return s;
 }
 
@@ -58,6 +62,8 @@ double CompiledTerms::d_dy(double x, double y, double w) const {
     if (m.py > 0) s += m.c * m.py * xp[m.px] * yp[m.py - 1];
   if (sign_ != 0.0 && std::abs(y) < w) s += sign_ / w;
   if (yabs_ != 0.0) s += yabs_ * 2.0 * std::abs(y);
+  for (const auto& tc : user_)  // over the kernel's width, as sign(y)
+    s += tc.coef * (tc.term.value(x, y + w, 0.0) - tc.term.value(x, y - w, 0.0)) / (2.0 * w);
   return s;
 }
 
@@ -69,6 +75,7 @@ double CompiledTerms::d2_dy2(double x, double y) const {
   for (const auto& m : mono_)
     if (m.py > 1) s += m.c * m.py * (m.py - 1) * xp[m.px] * yp[m.py - 2];
   if (yabs_ != 0.0) s += yabs_ * 2.0 * sgn(y);
+  for (const auto& tc : user_) s += tc.coef * tc.term.d2_dy2(x, y);
   return s;
 }
 
@@ -79,6 +86,7 @@ double CompiledTerms::d_dx(double x, double y) const {
   double s = 0.0;
   for (const auto& m : mono_)
     if (m.px > 0) s += m.c * m.px * xp[m.px - 1] * yp[m.py];
+  for (const auto& tc : user_) s += tc.coef * tc.term.d_dx(x, y);
   return s;
 }
 

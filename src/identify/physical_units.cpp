@@ -52,6 +52,8 @@ void scale_report(Report& r, const Scales& s) {
 Options options_in_internal_units(const Options& options, const Scales& s, std::vector<double>& force) {
   Options o = options;
   for (auto& e : o.effects) e = scale_effect(e, s, -1);
+  for (auto* terms : {&o.drift_library, &o.diffusion_library, &o.keep_drift, &o.keep_diffusion})
+    *terms = to_internal(std::move(*terms), s);
   if (options.known_force) {
     const double acceleration = s.length / (s.time * s.time);
     force.resize(options.known_force->size());

@@ -28,7 +28,7 @@ Structure Structure::of(const Model& m, const std::string& where) {
   }
   for (const auto& tc : m.diffusion) {
     if (tc.coef == 0.0) continue;
-    if (tc.term.kind == TermKind::SignY || tc.term.kind == TermKind::Drive)
+    if (tc.term.kind == TermKind::SignY || tc.term.depends_on_u())
       throw Error(where + ": diffusion term '" + tc.term.name() + "' is not allowed");
     note_powers(tc.term, "diffusion");
     st.diffusion.push_back(tc.term);

@@ -50,6 +50,7 @@ double YXPolynomial::eval(double x, double y, double u) const {
   double r = 0.0;
   for (std::size_t j = by_ypow.size(); j-- > 0;) r = r * y + by_ypow[j].eval(x);
   r += y_abs_y * y * std::abs(y) + abs_y * std::abs(y) + sign_y * ((y > 0) - (y < 0)) + drive * u;
+  for (const auto& p : user) r += p.at(x, y, u);
   return r;
 }
 
@@ -59,6 +60,7 @@ namespace {
 struct DenseYX {
   std::map<int, std::vector<double>> by_ypow;
   double y_abs_y = 0.0, abs_y = 0.0, sign_y = 0.0, drive = 0.0;
+  std::vector<YXPolynomial::UserPart> user;
 
   void add(int px, int py, double c) {
     if (c == 0.0) return;
@@ -78,7 +80,8 @@ struct DenseYX {
     p.abs_y = abs_y;
     p.sign_y = sign_y;
     p.drive = drive;
-    p.has_nonpoly = y_abs_y != 0.0 || abs_y != 0.0 || sign_y != 0.0;
+    p.user = user;
+    p.has_nonpoly = y_abs_y != 0.0 || abs_y != 0.0 || sign_y != 0.0 || !user.empty();
     return p;
   }
 };
@@ -106,6 +109,13 @@ Compiled compile_terms(const TermList& terms) {
         c.fyy.sign_y += 2.0 * k;
         break;
       case TermKind::Drive: c.f.drive += k; break;
+      case TermKind::User:
+        if (k == 0.0) break;
+        c.f.user.push_back({k, t, YXPolynomial::UserPart::Value});
+        c.fx.user.push_back({k, t, YXPolynomial::UserPart::Dx});
+        c.fy.user.push_back({k, t, YXPolynomial::UserPart::Dy});
+        c.fyy.user.push_back({k, t, YXPolynomial::UserPart::Dyy});
+        break;
     }
   }
   return c;

@@ -16,8 +16,8 @@ TEST_CASE("term names round-trip through parse and name", "[terms]") {
 }
 
 TEST_CASE("non-canonical or unknown term names are rejected", "[terms]") {
-  for (const char* bad : {"", "x^1", "x^0", "y*x", "x^02", "z", "x^", "x**2", "sign(x)", "x^2*",
-                          "x^-1", "2"}) {
+  for (const char* bad : {"", "x^1", "x^0", "y*x", "x^02", "z", "x^", "x**2", "x^2*", "2", "x+",
+                          "tanh(z)", "y*(y>0"}) {
     CAPTURE(bad);
     CHECK_THROWS_AS(Term::parse(bad), vehs::Error);
   }

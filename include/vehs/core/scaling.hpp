@@ -58,6 +58,10 @@ Dataset to_internal(const Dataset& data, const Scales& s);
 Model to_physical(const Model& internal, const Scales& s);
 Model to_internal(const Model& physical, const Scales& s);
 
+/// Terms (a library) in internal units: a user's expression term becomes its function of the
+/// internal state (vehs/core/user_function.hpp); the others are unchanged.
+std::vector<Term> to_internal(std::vector<Term> terms, const Scales& s);
+
 /// An effect's parameters and standard errors, converted (factor^power, power ±1).
 Effect scale_effect(const Effect& effect, const Scales& s, int power);
 

@@ -1,9 +1,13 @@
 #pragma once
 // Terms of the drift b2(x, y, u) and diffusion a22(x, y) dictionaries, with the names of
-// docs/model-file.md: "1", "x", "x^3", "y", "x^2*y", "y^3", "sign(y)", "y*|y|", "u".
+// docs/model-file.md: "1", "x", "x^3", "y", "x^2*y", "y^3", "sign(y)", "y*|y|", "u", and any
+// expression in x, y, u a user writes ("tanh(y/0.01)", "y*(y>0)": vehs/core/user_function.hpp).
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "vehs/core/user_function.hpp"
 
 namespace vehs {
 
@@ -12,36 +16,46 @@ enum class TermKind {
   SignY,     ///< sign(y), with sign(0) = 0 (Coulomb friction)
   YAbsY,     ///< y*|y| (quadratic / air damping)
   Drive,     ///< u, a recorded drive read from the measurement file
+  User,      ///< a user's expression in x, y, u (Term::fn)
 };
 
 struct Term {
   TermKind kind = TermKind::Monomial;
   int px = 0;  ///< power of x (Monomial only)
   int py = 0;  ///< power of y (Monomial only)
+  std::shared_ptr<const UserFunction> fn;  ///< the expression (User only)
 
   static Term monomial(int px, int py = 0);
-  static Term sign_y() { return Term{TermKind::SignY, 0, 0}; }
-  static Term y_abs_y() { return Term{TermKind::YAbsY, 0, 0}; }
-  static Term drive() { return Term{TermKind::Drive, 0, 0}; }
+  static Term sign_y() { return Term{TermKind::SignY, 0, 0, nullptr}; }
+  static Term y_abs_y() { return Term{TermKind::YAbsY, 0, 0, nullptr}; }
+  static Term drive() { return Term{TermKind::Drive, 0, 0, nullptr}; }
+  static Term user(std::shared_ptr<const UserFunction> f) { return Term{TermKind::User, 0, 0, std::move(f)}; }
 
-  /// Parses a canonical term name; throws vehs::Error naming the text and the grammar.
+  /// Parses a canonical term name, or else an expression in x, y, u (a User term); throws
+  /// vehs::Error naming the text, the grammar and the expression parser's reason.
   static Term parse(std::string_view name);
   /// The canonical name ("x^2*y").
   std::string name() const;
 
-  bool depends_on_y() const { return kind != TermKind::Monomial ? kind != TermKind::Drive : py > 0; }
-  bool depends_on_u() const { return kind == TermKind::Drive; }
+  bool depends_on_y() const;
+  bool depends_on_u() const { return kind == TermKind::Drive || (kind == TermKind::User && fn->uses_u()); }
+  bool is_user() const { return kind == TermKind::User; }
   bool is_polynomial() const { return kind == TermKind::Monomial; }
 
   double value(double x, double y, double u = 0.0) const;
-  double d_dx(double x, double y) const;    ///< ∂/∂x (0 for u)
-  double d_dy(double x, double y) const;    ///< ∂/∂y (0 almost everywhere for sign(y))
-  double d2_dy2(double x, double y) const;  ///< ∂²/∂y²
-  double d2_dx2(double x, double y) const;  ///< ∂²/∂x²
-  double d2_dxdy(double x, double y) const; ///< ∂²/∂x∂y
+  /// Derivatives (central differences for a User term, 0 where it jumps)
+  double d_dx(double x, double y, double u = 0.0) const;    ///< ∂/∂x (0 for u)
+  double d_dy(double x, double y, double u = 0.0) const;    ///< ∂/∂y (0 almost everywhere for sign(y))
+  double d2_dy2(double x, double y, double u = 0.0) const;  ///< ∂²/∂y²
+  double d2_dx2(double x, double y, double u = 0.0) const;  ///< ∂²/∂x²
+  double d2_dxdy(double x, double y, double u = 0.0) const; ///< ∂²/∂x∂y
 };
 
-/// Canonical order: monomials by (py, px), then sign(y), y*|y|, u.
+/// The term of internal units (vehs/core/scaling.hpp) for a User term: its function of
+/// (kx·x, ky·y, ku·u); any other term unchanged.
+Term rescaled(const Term& t, double kx, double ky, double ku);
+
+/// Canonical order: monomials by (py, px), then sign(y), y*|y|, u, user terms by text.
 bool operator<(const Term& a, const Term& b);
 bool operator==(const Term& a, const Term& b);
 inline bool operator!=(const Term& a, const Term& b) { return !(a == b); }

@@ -40,7 +40,7 @@ class CompiledTerms {
   double d_dy(double x, double y, double sign_halfwidth) const;
   double d2_dy2(double x, double y) const;
   double d_dx(double x, double y) const;
-  bool empty() const { return mono_.empty() && sign_ == 0.0 && yabs_ == 0.0 && u_ == 0.0; }
+  bool empty() const { return mono_.empty() && sign_ == 0.0 && yabs_ == 0.0 && u_ == 0.0 && user_.empty(); }
   bool depends_on_y() const;
 
  private:
@@ -51,6 +51,7 @@ class CompiledTerms {
   std::vector<Mono> mono_;
   int max_px_ = 0, max_py_ = 0;
   double sign_ = 0.0, yabs_ = 0.0, u_ = 0.0;
+  TermList user_;  ///< users' expression terms (evaluated through their parsers)
 };
 
 /// Forces of the effects that depend on x or t only.

@@ -146,6 +146,9 @@ class Dictionary {
         case TermKind::Drive:
           for (int i = 0; i < m; ++i) o[i] = b.u[i];
           break;
+        case TermKind::User:
+          for (int i = 0; i < m; ++i) o[i] = (*t.fn)(b.x[i], b.v[i], b.u[i]);
+          break;
       }
     }
   }
@@ -183,6 +186,12 @@ class Dictionary {
         case TermKind::Drive:
           for (int i = 0; i < m; ++i) o[i] = 0.0;
           break;
+        case TermKind::User: {  // central difference over the sign kernel's width: a jump
+          const double h = sign_h_, inv = 0.5 / sign_h_;  // shows as sign(y)'s box kernel does
+          const auto& g = *t.fn;
+          for (int i = 0; i < m; ++i) o[i] = (g(b.x[i], b.v[i] + h, b.u[i]) - g(b.x[i], b.v[i] - h, b.u[i])) * inv;
+          break;
+        }
       }
     }
   }
@@ -222,6 +231,11 @@ class Dictionary {
         for (int i = 0; i < m; ++i) o[i] = 2.0 * static_cast<double>((b.v[i] > 0) - (b.v[i] < 0));
       } else if (t.kind == TermKind::SignY && smooth_.on) {
         for (int i = 0; i < m; ++i) o[i] = smooth_.at(b.x[i], b.v[i]).d2;
+      } else if (t.kind == TermKind::User) {
+        const double h = sign_h_, inv = 1.0 / (sign_h_ * sign_h_);
+        const auto& g = *t.fn;
+        for (int i = 0; i < m; ++i)
+          o[i] = (g(b.x[i], b.v[i] + h, b.u[i]) - 2.0 * g(b.x[i], b.v[i], b.u[i]) + g(b.x[i], b.v[i] - h, b.u[i])) * inv;
       } else {
         for (int i = 0; i < m; ++i) o[i] = 0.0;
       }
@@ -243,6 +257,8 @@ class Dictionary {
         const double* py = vp + t.py * kBlockRows;
         const double c = t.px;
         for (int i = 0; i < m; ++i) o[i] = c * px[i] * py[i];
+      } else if (t.kind == TermKind::User) {
+        for (int i = 0; i < m; ++i) o[i] = t.d_dx(b.x[i], b.v[i], b.u[i]);
       } else {
         for (int i = 0; i < m; ++i) o[i] = 0.0;
       }

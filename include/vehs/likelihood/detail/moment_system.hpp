@@ -22,6 +22,7 @@
 #include "vehs/likelihood/detail/input_path.hpp"
 #include "vehs/likelihood/detail/model_structure.hpp"
 #include "vehs/likelihood/detail/scalar.hpp"
+#include "vehs/likelihood/detail/user_expectation.hpp"
 
 namespace vehs::likelihood::detail {
 
@@ -94,6 +95,13 @@ class MomentSystem {
           gy += c * 2.0 * expect_abs(my, sy);
           break;
         case TermKind::Drive: eb += c * u; break;
+        case TermKind::User: {
+          const UserMoments<T> e = expect_user(term, mx, my, pxx, pxy, pyy, u);
+          eb += c * e.value;
+          gx += c * e.dx;
+          gy += c * e.dy;
+          break;
+        }
       }
     }
     if (st_.impact) {
@@ -119,6 +127,8 @@ class MomentSystem {
       const Term& term = st_.diffusion[j];
       if (term.kind == TermKind::Monomial)
         q += c_.diffusion[j] * moments_(term.px, term.py);
+      else if (term.kind == TermKind::User)
+        q += c_.diffusion[j] * expect_user(term, mx, my, pxx, pxy, pyy, u).value;
       else  // y·|y| (sign(y) and u are rejected by Structure::of)
         q += c_.diffusion[j] * expect_y_abs_y(my, sy);
     }

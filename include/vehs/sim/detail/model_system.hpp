@@ -100,11 +100,28 @@ struct YXPolynomial {
   double abs_y = 0.0;                ///< coefficient of |y| (appears in ∂_y of y·|y|)
   double sign_y = 0.0;               ///< coefficient of sign(y), sign(0) = 0
   double drive = 0.0;                ///< coefficient of u (drift only)
-  bool has_nonpoly = false;          ///< any of y_abs_y, abs_y, sign_y is non-zero
+  /// A user's expression term (or one of its partial derivatives, by central differences).
+  struct UserPart {
+    double coef = 0.0;
+    Term term;
+    enum Of { Value, Dx, Dy, Dyy } of = Value;
+    double at(double x, double y, double u) const {
+      switch (of) {
+        case Dx: return coef * term.d_dx(x, y, u);
+        case Dy: return coef * term.d_dy(x, y, u);
+        case Dyy: return coef * term.d2_dy2(x, y, u);
+        default: return coef * term.value(x, y, u);
+      }
+    }
+  };
+  std::vector<UserPart> user;
+  bool has_nonpoly = false;          ///< any of y_abs_y, abs_y, sign_y, user is non-zero
 
   int max_ypow() const { return static_cast<int>(by_ypow.size()) - 1; }
   bool depends_on_y() const {
-    return by_ypow.size() > 1 || y_abs_y != 0.0 || abs_y != 0.0 || sign_y != 0.0;
+    bool user_y = false;
+    for (const auto& p : user) user_y = user_y || p.term.depends_on_y();
+    return by_ypow.size() > 1 || y_abs_y != 0.0 || abs_y != 0.0 || sign_y != 0.0 || user_y;
   }
   /// Scalar evaluation (checks, tests).
   double eval(double x, double y, double u = 0.0) const;
@@ -272,8 +289,7 @@ class ModelSystem {
   }
 
  private:
-  static Lanes poly_y(const YXPolynomial& p, const Lanes& x, const Lanes& x2,
-                                      const Lanes& y) {
+  Lanes poly_y(const YXPolynomial& p, const Lanes& x, const Lanes& x2, const Lanes& y) const {
     const int J = p.max_ypow();
     Lanes r;
     if (J < 0) {
@@ -289,6 +305,8 @@ class ModelSystem {
       if (p.abs_y != 0.0) r += p.abs_y * y.abs();
       if (p.sign_y != 0.0)
         r += p.sign_y * ((y > 0.0).template cast<double>() - (y < 0.0).template cast<double>());
+      for (const auto& part : p.user)
+        for (int l = 0; l < L; ++l) r[l] += part.at(x[l], y[l], u_[l]);
     }
     return r;
   }

@@ -1,0 +1,42 @@
+#pragma once
+// A term the catalogue lacks, written by the user as an expression in the state: "tanh(y/0.01)",
+// "y*(y>0)", "u*x", "(x>0.8)*(x-0.8)". Parsed once by muParser (a comparison is 1 or 0, the usual
+// functions sin, cos, tanh, exp, log, sqrt, abs, sign, min, max, the operators + - * / ^ and
+// ?:); evaluated at the physical state. A model fitted in internal units (vehs/core/scaling.hpp)
+// holds the same function of the internal state, g(kx·x̃, ky·ỹ, ku·ũ), made by rescaled().
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+
+namespace vehs {
+
+class UserFunction {
+ public:
+  /// Parses `text` over the variables x, y, u (white space is dropped). Throws vehs::Error with
+  /// the parser's reason, or when the expression uses none of x, y, u.
+  static std::shared_ptr<const UserFunction> parse(std::string_view text);
+
+  /// The expression as written (without white space): the term's name in a model file.
+  const std::string& text() const { return text_; }
+  bool uses_x() const { return uses_[0]; }
+  bool uses_y() const { return uses_[1]; }
+  bool uses_u() const { return uses_[2]; }
+  /// Factors (kx, ky, ku) applied to the arguments before evaluation (1, 1, 1 as parsed).
+  const std::array<double, 3>& scales() const { return scales_; }
+  /// The same expression evaluated at (kx·x, ky·y, ku·u), the factors compounding.
+  std::shared_ptr<const UserFunction> rescaled(double kx, double ky, double ku) const;
+
+  /// g(x, y, u); safe to call from several threads at once.
+  double operator()(double x, double y, double u = 0.0) const;
+
+ private:
+  UserFunction() = default;
+  std::string text_;
+  std::array<bool, 3> uses_{};
+  std::array<double, 3> scales_{1.0, 1.0, 1.0};
+  std::uint64_t id_ = 0;  ///< the per-thread parser cache's key
+};
+
+}  // namespace vehs
