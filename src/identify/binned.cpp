@@ -77,25 +77,29 @@ BinnedCurve finish(const Sums& s, const Range& r, int bins) {
   return c;
 }
 
-/// Takes the sensor noise's part out of the diffusion bins; drops the bins it dominates.
+/// Takes the sensor noise's part out of the diffusion bins. When it is more than the allowed
+/// share of the raw diffusion pooled over the bins, every bin is dropped (deciding bin by bin
+/// would keep exactly the bins whose noise fluctuated up).
 void remove_noise(BinnedEstimates& out, const Sums& noise, const BinnedOptions& o) {
   out.noise_sd = o.noise_sd;
   if (o.noise_sd == 0.0) return;
+  auto& c = out.diffusion;
   double raw = 0.0, part = 0.0;
-  for (std::size_t b = 0; b < out.diffusion.mean.size(); ++b) {
-    double& m = out.diffusion.mean[b];
-    if (!std::isfinite(m) || noise.n[b] == 0) continue;
-    const double p = noise.s[b] / noise.n[b];
-    raw += m * noise.n[b], part += p * noise.n[b];
-    if (p > o.max_noise_share * m) {
-      m = out.diffusion.se[b] = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t b = 0; b < c.mean.size(); ++b)
+    if (std::isfinite(c.mean[b]) && noise.n[b] > 0) raw += c.mean[b] * noise.n[b], part += noise.s[b];
+  out.noise_share = raw > 0 ? part / raw : 0.0;
+  const bool drop = out.noise_share > o.max_noise_share;
+  for (std::size_t b = 0; b < c.mean.size(); ++b) {
+    if (!std::isfinite(c.mean[b]) || noise.n[b] == 0) continue;
+    if (drop) {
+      c.mean[b] = c.se[b] = std::numeric_limits<double>::quiet_NaN();
       ++out.diffusion_bins_dropped;
       continue;
     }
-    m -= p;
-    out.diffusion.se[b] = std::hypot(out.diffusion.se[b], 2 * p * o.noise_sd_se / o.noise_sd);
+    const double p = noise.s[b] / noise.n[b];
+    c.mean[b] -= p;
+    c.se[b] = std::hypot(c.se[b], 2 * p * o.noise_sd_se / o.noise_sd);
   }
-  out.noise_share = raw > 0 ? part / raw : 0.0;
 }
 
 /// White sensor noise of unit variance in c·h·(â − b2)², linearised in the noise: the weights of

@@ -72,22 +72,20 @@ void add_points(Table& t, const identify::BinnedCurve& c) {
     if (std::isfinite(c.mean[i])) t.add_row({c.at[i], c.mean[i], c.se[i]});
 }
 
-/// The sensor noise sd of the fit with its standard error: the likelihood's measurement_sd when
-/// the model has one, else the moment fit's estimate (no standard error).
-/// The diffusion panel's title: what was removed from the binned data, and what was dropped.
+/// The diffusion panel's title: the sensor noise removed from the binned data (its share of
+/// the raw), or that the bins were dropped.
 std::string diffusion_title(const identify::BinnedEstimates& km) {
-  std::string t = "diffusion a22(x, 0)";
-  if (km.noise_sd > 0) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "; data less sensor noise sd %.3g (%.0f %% of the raw)", km.noise_sd,
-                  100 * km.noise_share);
-    t += buf;
-  }
-  if (km.diffusion_bins_dropped > 0)
-    t += "; " + std::to_string(km.diffusion_bins_dropped) + " bins dropped: noise over 95 % of the raw";
-  return t;
+  if (km.noise_sd == 0) return "diffusion a22(x, 0)";
+  char buf[160];
+  std::snprintf(buf, sizeof buf,
+                km.diffusion_bins_dropped > 0 ? "diffusion a22(x, 0); no data: sensor noise sd %.3g is %.3g %% of the raw"
+                                              : "diffusion a22(x, 0); data less sensor noise sd %.3g (%.3g %% of the raw)",
+                km.noise_sd, 100 * km.noise_share);
+  return buf;
 }
 
+/// The sensor noise sd of the fit with its standard error: the likelihood's measurement_sd when
+/// the model has one, else the moment fit's estimate (no standard error).
 std::pair<double, double> sensor_noise(const Model& m) {
   if (!m.fit) return {0.0, 0.0};
   if (const auto& l = m.fit->likelihood; l && l->measurement_sd > 0) {
@@ -151,7 +149,7 @@ std::string identify_figure(const std::string& dir, const Model& model, const Da
      << line << "\n"
      << "set title " << gnuplot_quote(diffusion_title(km)) << "\nset xlabel " << gnuplot_quote(X) << "\nset ylabel " << gnuplot_quote(A) << "\n"
      << "plot 'identify_fit_model.csv' skip 1 using 1:($6-1.96*$7):($6+1.96*$7)" << band << ", '' skip 1 using 1:6"
-     << line << ", 'identify_fit_km_diffusion.csv' skip 1 using 1:2:3" << pts << "\nunset multiplot\n";
+     << line << (pd.rows.empty() ? "" : ", 'identify_fit_km_diffusion.csv' skip 1 using 1:2:3" + pts) << "\nunset multiplot\n";
   return render_figure(dir, "identify_fit", gp.str(), "svg", 1100, 860);
 }
 

@@ -8,9 +8,9 @@
 // terms; the diffusion bins average c·h·(â − b2(x, v̂, u))² with c = 3/2 for central kinematics
 // (ULI) and 1 for forward data (whose noise enters one step, not a tent average), less the part
 // white sensor noise of sd s adds: c·h·s²·[(1/h² − g_v/2h)² + (2/h² + g_x)² + (1/h² + g_v/2h)²]
-// (g_x, g_v: the model's ∂b2/∂x and ∂b2/∂v at the row; 6s²/h⁴ at leading order). A bin where
-// that part is more than `max_noise_share` of the raw mean is dropped: the noise level would
-// have to be known better than the signal it leaves. With central kinematics â's noise covaries
+// (g_x, g_v: the model's ∂b2/∂x and ∂b2/∂v at the row; 6s²/h⁴ at leading order). When that
+// part is more than `max_noise_share` of the raw diffusion pooled over the bins, the diffusion
+// bins are dropped: the noise level would have to be known better than the signal it leaves. With central kinematics â's noise covaries
 // with v̂'s, which biases E[â | v̂] by ½ d(a22·p)/dv / p (Stein's lemma, as in ULI's Itô
 // correction): the v̂-bins are corrected for it with the bin-edge densities and a22 of the model.
 #include <vector>
@@ -31,7 +31,7 @@ struct BinnedOptions {
   int bins = 40;
   double noise_sd = 0.0;            ///< white sensor noise sd on x removed from the diffusion bins
   double noise_sd_se = 0.0;         ///< its standard error (widens the diffusion bins' se)
-  double max_noise_share = 0.95;    ///< diffusion bins with more noise than this share are dropped
+  double max_noise_share = 0.95;    ///< pooled noise share above which the diffusion bins are dropped
 };
 
 struct BinnedEstimates {
@@ -40,7 +40,7 @@ struct BinnedEstimates {
   BinnedCurve diffusion;  ///< a22 vs x (sensor noise removed)
   double noise_sd = 0.0;             ///< the sensor noise sd removed
   double noise_share = 0.0;          ///< its share of the raw diffusion, pooled over the bins
-  int diffusion_bins_dropped = 0;    ///< bins with rows dropped for more noise than max_noise_share
+  int diffusion_bins_dropped = 0;    ///< bins dropped (the pooled share above max_noise_share)
 };
 
 /// Bins over the 0.5 %–99.5 % quantile range of x and v̂ (`bins` each); bins with fewer than 30
