@@ -168,8 +168,8 @@ void add_top_card(Report& report, const diagnose::Result& r, const std::string& 
   auto& s = report.section("Summary");
   s.id = "top-card";
   s.card = true;
-  s.paragraphs.push_back("Verdict: " + std::string(r.adequate() ? "ADEQUATE" : "INADEQUATE") + " (model " +
-                         model_label + "; score " + g(r.score) + ", an adequate model scores about " +
+  s.paragraphs.push_back("Verdict: " + std::string(r.adequate() ? "ADEQUATE" : "INADEQUATE") + " for \u201c" +
+                         model_label + "\u201d (score " + g(r.score) + "; an adequate model scores about " +
                          g(r.score_expected_adequate, 2) + ", lower is better).");
   if (!next_command.empty()) {
     std::string names;
