@@ -26,7 +26,7 @@ std::string write_report(const std::string& folder, const std::string& label, co
       tools::append_history(history, tools::history_entry(model.model, "(python)", label, data, r, model.sections));
   tools::Report report(folder, "vehs.diagnose: " + label);
   tools::add_diagnosis_to_report(report, r, label, entries, tools::data_fingerprint(data), nlohmann::json::object(), {},
-                                 &model.model);
+                                 &model.model, &data);
   return report.write_html();
 }
 

@@ -296,7 +296,13 @@ int run_diagnose(Config& c, const AppOptions& app) {
                               e.value("verdict", "") + (v == version ? ", this page)" : ")"),
                           "versions/v" + std::to_string(v) + ".html"});
     }
-  add_diagnosis_to_report(report, r, label, entries, fingerprint, units, versions, &model);
+  nlohmann::json data_keys;  // what a refit config needs to read the same data
+  data_keys["data"] = files;
+  for (const char* k : {"columns", "dt", "sampling", "detrend"})
+    if (c.has(k)) data_keys[k] = c.raw(k);
+  if (!units.empty()) data_keys["units"] = units;
+  const std::string refit_command = write_refit_config(folder, r, model, data_keys);
+  add_diagnosis_to_report(report, r, label, entries, fingerprint, units, versions, &model, &data, refit_command);
   nlohmann::ordered_json j = diagnosis_to_json(r, &model);
   j["model"] = model_file;
   j["label"] = label;
@@ -348,7 +354,10 @@ int run_diagnose(Config& c, const AppOptions& app) {
     if (aside) print_heldout();
     for (const auto& w : r.warnings) std::printf("warning: %s\n", w.c_str());
     std::printf("conclusion: %s\n", r.conclusion.c_str());
-    std::printf("%s\n", next_step(r, &model).c_str());
+    if (!refit_command.empty())
+      std::printf("Next step: add %s: run  %s\n", j["recommended"].dump().c_str(), refit_command.c_str());
+    else
+      std::printf("%s\n", next_step(r, &model).c_str());
     std::printf("report: %s\nsummary: %s\n", html.c_str(), output.c_str());
   }
   return fail_on_inadequate && r.verdict == diagnose::Verdict::Inadequate ? 3 : 0;

@@ -2,14 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "tools/diagnosis_file.hpp"
 #include "tools/figures.hpp"
 #include "tools/measurement_config.hpp"
+#include "tools/report_validation.hpp"
 #include "tools/table.hpp"
 #include "vehs/core/detail/format.hpp"
+#include "vehs/io/atomic_file.hpp"
 
 namespace vehs::tools {
 
@@ -87,6 +91,147 @@ std::string params_text(const std::map<std::string, double>& params, const std::
 }
 }  // namespace
 
+namespace {
+
+/// L^a T^b as text ("mm^2/s^3"), from the units block (the data's own units named when absent).
+std::string power_unit(int a, int b, const nlohmann::json& units, int input = 0) {
+  auto get = [&](const char* k, const char* fallback) {
+    return units.is_object() && units.contains(k) && units[k].is_string() ? units[k].get<std::string>() : std::string(fallback);
+  };
+  const std::string L = get("length", "length"), T = get("time", "time"), U = get("input", "input");
+  std::string num, den;
+  auto put = [](std::string& to, const std::string& name, int p) {
+    if (p == 0) return;
+    to += (to.empty() ? "" : "·") + name + (p > 1 ? "^" + std::to_string(p) : "");
+  };
+  put(a > 0 ? num : den, L, std::abs(a));
+  put(b > 0 ? num : den, T, std::abs(b));
+  put(input > 0 ? num : den, U, std::abs(input));
+  if (num.empty() && den.empty()) return "1";
+  if (den.find("·") != std::string::npos || den.find('/') != std::string::npos) den = "(" + den + ")";
+  return (num.empty() ? "1" : num) + (den.empty() ? "" : "/" + den);
+}
+
+/// The unit of a drift (acceleration) or diffusion (acceleration² · time) coefficient of `t`.
+std::string coefficient_unit(const Term& t, bool diffusion, const nlohmann::json& units) {
+  int a = diffusion ? 2 : 1, b = diffusion ? -3 : -2;
+  switch (t.kind) {
+    case TermKind::Monomial: a -= t.px + t.py, b += t.py; break;
+    case TermKind::YAbsY: a -= 2, b += 2; break;
+    case TermKind::Drive: {  // acceleration per unit of input
+      const std::string in = power_unit(0, 0, units, 1);
+      return "(" + power_unit(a, b, units) + ")/" + (in.find('/') != std::string::npos ? "(" + in + ")" : in);
+    }
+    case TermKind::SignY: break;
+  }
+  return power_unit(a, b, units);
+}
+
+/// The standard error of a model parameter: from the model's maps, or its covariance.
+double parameter_se(const Model& m, const std::string& name, const std::map<std::string, double>& se, const std::string& key) {
+  if (auto it = se.find(key); it != se.end()) return it->second;
+  const auto i = m.covariance.index_of(name);
+  return i < m.covariance.size() ? std::sqrt(std::max(0.0, m.covariance(i, i))) : std::nan("");
+}
+
+double measurement_sd_se(const LikelihoodFit& l) {
+  const std::size_t n = l.parameters.size();
+  for (std::size_t i = 0; i < n; ++i)
+    if (l.parameters[i] == "measurement_sd" && l.covariance.size() == n * n) return std::sqrt(std::max(0.0, l.covariance[i * n + i]));
+  return std::nan("");
+}
+
+ReportTable parameter_table(const Model& m, const nlohmann::json& units) {
+  ReportTable t;
+  t.caption = "Parameters of the diagnosed model (b2 = Σ coefficient · term; a22 likewise)";
+  t.header = {"parameter", "value", "standard error", "unit"};
+  for (const auto& tc : m.drift)
+    t.rows.push_back({"drift[" + tc.term.name() + "]", g(tc.coef, 6),
+                      g(parameter_se(m, "drift[" + tc.term.name() + "]", m.drift_stderr, tc.term.name()), 2),
+                      coefficient_unit(tc.term, false, units)});
+  for (const auto& tc : m.diffusion)
+    t.rows.push_back({"diffusion[" + tc.term.name() + "]", g(tc.coef, 6),
+                      g(parameter_se(m, "diffusion[" + tc.term.name() + "]", m.diffusion_stderr, tc.term.name()), 2),
+                      coefficient_unit(tc.term, true, units)});
+  for (const auto& e : m.effects)
+    for (const auto& [k, v] : e.params)
+      t.rows.push_back({e.name() + "." + k, g(v, 6), g(parameter_se(m, e.name() + "." + k, e.stderr_, k), 2), "-"});
+  if (m.fit && m.fit->likelihood && m.fit->likelihood->measurement_sd > 0)
+    t.rows.push_back({"measurement_sd (sensor noise on x)", g(m.fit->likelihood->measurement_sd, 4),
+                      g(measurement_sd_se(*m.fit->likelihood), 2), power_unit(1, 0, units)});
+  return t;
+}
+
+/// The summary card: verdict, the next step, the parameter table and the fit to the measured x.
+void add_top_card(Report& report, const diagnose::Result& r, const std::string& model_label, const Model* model,
+                  const nlohmann::json& units, const std::string& next_command, const DrivenValidation* dv) {
+  auto& s = report.section("Summary");
+  s.id = "top-card";
+  s.card = true;
+  s.paragraphs.push_back("Verdict: " + std::string(r.adequate() ? "ADEQUATE" : "INADEQUATE") + " for \u201c" +
+                         model_label + "\u201d (score " + g(r.score) + "; an adequate model scores about " +
+                         g(r.score_expected_adequate, 2) + ", lower is better).");
+  if (!next_command.empty()) {
+    std::string names;
+    for (const auto& e : r.recommended) names += (names.empty() ? "" : ", ") + e;
+    s.paragraphs.push_back("Next step: add " + names + " (confirmed on held-out data). The identify-vehs config "
+                           "beside this report, refit.json, fits the model with it on the same data; run:");
+    s.code.push_back(next_command);
+  } else {
+    s.paragraphs.push_back(next_step(r, model));
+  }
+  if (dv && dv->available)
+    s.paragraphs.push_back("Measured vs simulated (free run under the recorded input): fit " + g(dv->fit_percent, 3) +
+                           " % (100 (1 − ‖x − x̂‖ / ‖x − mean x‖), as MATLAB's compare).");
+  if (model) s.tables.push_back(parameter_table(*model, units));
+}
+
+/// Measured vs simulated and the residual–input cross-correlation (driven data).
+void add_validation(Report& report, const DrivenValidation& dv, const nlohmann::json& units) {
+  auto& s = report.section("Measured vs simulated under the recorded input");
+  if (!dv.available) {
+    s.paragraphs.push_back("Not shown: " + dv.note + ".");
+    return;
+  }
+  auto axis = [&](const std::string& label, const std::string& what) { return with_unit(label, what, units); };
+  std::string per;
+  for (double f : dv.record_fit) per += (per.empty() ? "" : ", ") + g(f, 3) + " %";
+  s.paragraphs.push_back("The model run without its process noise under each record's input from the record's measured "
+                         "initial state, scored after the transient: fit " + g(dv.fit_percent, 3) + " % pooled (per record: " +
+                         per + ")" + (dv.note.empty() ? "" : "; " + dv.note) + ". A stochastic model's free run "
+                         "reproduces only the input-driven part of x, so 100 % is not expected.");
+  Table mv({"t", "measured", "simulated"});
+  for (std::size_t i = 0; i < dv.t.size(); ++i) mv.add_row({dv.t[i], dv.measured[i], dv.simulated[i]});
+  report.add_figure(s, "measured_vs_simulated",
+                    "Measured x (red) and the model's free run (blue) on the first record, after the transient; fit " +
+                        g(dv.record_fit.front(), 3) + " %.",
+                    mv,
+                    "set grid\nset key below horizontal\nset xlabel " + gnuplot_quote(axis("t", "t")) + "\nset ylabel " +
+                        gnuplot_quote(axis("x", "x")) + "\nset title " + gnuplot_quote("measured vs simulated: fit " + g(dv.fit_percent, 3) + " %") +
+                        "\nplot 'measured_vs_simulated.csv' skip 1 using 1:2 with lines lw 1 lc rgb '#cb181d' title "
+                        "'measured', '' skip 1 using 1:3 with lines lw 1.5 lc rgb '#2171b5' title 'simulated (free run)'");
+  if (dv.lag.empty()) return;
+  Table xc({"lag", "xcorr", "band"});
+  for (std::size_t i = 0; i < dv.lag.size(); ++i) xc.add_row({dv.lag[i], dv.xcorr[i], dv.band[i]});
+  s.paragraphs.push_back("Residual–input cross-correlation: largest |r| is " + g(dv.worst_ratio, 3) +
+                         " times the 99 % band (at lag " + g(dv.worst_lag, 3) + "); " +
+                         (dv.worst_ratio > 1 ? "outside the band: the residuals still depend on the input."
+                                             : "inside the band: nothing of the input is left in the residuals."));
+  report.add_figure(s, "residual_input_xcorr",
+                    "Cross-correlation of the one-step residuals (acceleration minus the model's drift) with the input "
+                    "u at lag τ (τ > 0: the input leads), with the 99 % band of independent series (Bartlett's "
+                    "variance from both autocorrelations; MATLAB's resid). Bars outside the band: input dynamics the "
+                    "model lacks.",
+                    xc,
+                    "set grid\nset key below horizontal\nset xlabel " + gnuplot_quote(axis("lag", "t")) +
+                        "\nset ylabel 'correlation'\nset title 'residual-input cross-correlation'\nset style fill solid 0.6\n"
+                        "plot 'residual_input_xcorr.csv' skip 1 using 1:2 with impulses lw 3 lc rgb '#2171b5' title "
+                        "'r(residual, input)', '' skip 1 using 1:3 with lines dt 2 lc rgb 'black' title '99 % band', '' "
+                        "skip 1 using 1:(-$3) with lines dt 2 lc rgb 'black' notitle");
+}
+
+}  // namespace
+
 std::string next_step(const diagnose::Result& r, const Model* model) {
   if (r.adequate()) return "Next step: none needed: the model reproduces the data within their statistical errors.";
   if (r.confirmation.ran) {
@@ -122,13 +267,16 @@ std::string next_step(const diagnose::Result& r, const Model* model) {
 
 void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const std::string& model_label,
                              const std::vector<nlohmann::ordered_json>& history, const std::string& fingerprint,
-                             const nlohmann::json& units, const std::vector<ReportLink>& versions, const Model* model) {
+                             const nlohmann::json& units, const std::vector<ReportLink>& versions, const Model* model,
+                             const Dataset* data, const std::string& next_command) {
   auto axis = [&](const std::string& label, const std::string& what) { return with_unit(label, what, units); };
+  std::optional<DrivenValidation> validation;
+  if (model && data) validation = driven_validation(*model, *data);
+  add_top_card(report, r, model_label, model, units, next_command, validation ? &*validation : nullptr);
+  if (validation) add_validation(report, *validation, units);
   // ------------------------------------------------------------------ verdict
   {
-    auto& s = report.section("Verdict");
-    s.paragraphs.push_back("Model " + model_label + ": " + (r.adequate() ? "ADEQUATE" : "INADEQUATE") + ", score " +
-                           g(r.score) + ". " + next_step(r, model));
+    auto& s = report.section("Verdict: the components");
     std::ostringstream p;
     p << "Score " << g(r.score) << " (an adequate model scores about " << g(r.score_expected_adequate, 2)
       << " on these components; lower is better; comparable between models fitted to the same data). "
@@ -178,7 +326,8 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
 
   // ------------------------------------------------------------------ one-step map
   {
-    auto& s = report.section("Where the model fails: one-step residuals over phase space");
+    auto& s = report.section(r.adequate() ? "One-step residuals over phase space"
+                                          : "Where the model fails: one-step residuals over phase space");
     s.paragraphs.push_back("Lens: " + r.lens.describe() + ". Residuals r = (a - b2(x, v)) / sqrt(c a22(x, v)/h).");
     const OneStepMap& m = r.map;
     Table t({"x", "v", "z_mean", "z_log_variance", "z_kurtosis", "mean_data", "mean_twin", "var_data", "var_twin",
@@ -349,63 +498,85 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
   }
 
   // ------------------------------------------------------------------ suspects
+  // Ordered by what was claimed: the score tests on all the data (claimed first, then by z),
+  // then the held-out suspects; held-out evidence that was set aside goes to its own section,
+  // after the claims.
   {
     auto& s = report.section("Suspects: effects the model may be missing");
     if (!r.suspects.note.empty()) s.paragraphs.push_back(r.suspects.note);
     const bool aside = !r.suspects.set_aside.empty();
-    if (aside) s.paragraphs.push_back("NOT A TEST ON THESE DATA: " + r.suspects.set_aside + ".");
-    if (!r.suspects.ranked.empty()) {
+    if (!r.score_suspects.ranked.empty()) {
+      const auto& ss = r.score_suspects;
+      std::vector<const diagnose::ScoreSuspect*> order;
+      for (const auto& sp : ss.ranked) order.push_back(&sp);
+      std::stable_sort(order.begin(), order.end(), [](const auto* a, const auto* b) {
+        return a->significant != b->significant ? a->significant : a->z > b->z;
+      });
       s.paragraphs.push_back(
-          "Each effect was added to the model's terms, fitted by identify on the first part of every record and "
-          "scored on the held-out rest (" + g(r.suspects.baseline_heldout_rows, 6) + " rows in " +
-          std::to_string(r.suspects.blocks) + " blocks). Evidence = held-out log-likelihood gain in nats; z = gain / "
-          "its standard error over blocks. A suspect is claimed only when z is large, the gain positive and the "
-          "model inadequate. Merge the 'add' fragment into the identify-vehs config to try it.");
+          "Likelihood score tests on all the data (" + g(static_cast<double>(ss.samples), 6) + " samples in " +
+          std::to_string(ss.records) + " records): for each effect the model lacks, how much the likelihood of "
+          "the model's filter rises when the effect's parameter leaves 0 (z = the normal quantile of p). 'under "
+          "the model': how often the test claims the effect on data simulated from the model; 'power': how often "
+          "on data from the model plus the fitted effect. Not claimed with a high power: the effect is absent; "
+          "with a low power: too little data ('detectable': the size these data would reveal).");
       ReportTable t;
-      t.caption = aside ? "Held-out suspects, SET ASIDE (shown for reference; nothing is claimed from them)"
-                        : "Suspects, most likely first";
-      t.header = {"effect", "evidence (nats)", "z", "claimed", "fitted parameters", "add to identify-vehs config"};
-      Table bars({"z", "evidence"}, "effect");
-      for (std::size_t i = 0; i < r.suspects.ranked.size(); ++i) {
-        const auto& sp = r.suspects.ranked[i];
-        const std::string params = params_text(sp.params, sp.params_stderr);
-        t.rows.push_back({sp.effect, g(sp.evidence), g(sp.z, 3), aside ? "set aside" : sp.significant ? "yes" : "no", params,
-                          suspect_add_fragment(sp).dump()});
-        if (sp.significant) t.highlight.push_back(i);
-        bars.add_row(label_text(sp.effect), {std::isfinite(sp.z) ? sp.z : 0.0, sp.evidence});
+      t.caption = "Score-test suspects (likelihood, all data), claimed first";
+      t.header = {"effect", "z", "p", "claimed", "under the model", "power", "fitted parameters", "detectable"};
+      Table bars({"z", "claimed"}, "effect");
+      for (const auto* sp : order) {
+        t.rows.push_back({sp->effect, g(sp->z, 3), g(sp->p_value, 2), sp->significant ? "yes" : "no",
+                          g(sp->null_claim_rate, 2), g(sp->power, 2), params_text(sp->params, sp->params_stderr),
+                          sp->detectable});
+        if (sp->significant) {
+          t.highlight.push_back(t.rows.size() - 1);
+          s.paragraphs.push_back("To fit " + sp->effect + " (" + sp->test + "), merge into the identify-vehs config: " + sp->add);
+        }
+        bars.add_row(label_text(sp->effect), {std::isfinite(sp->z) ? sp->z : 0.0, sp->significant ? 1.0 : 0.0});
       }
       s.tables.push_back(t);
       bars.write_csv(report.folder() + "/suspects.csv");
       report.add_figure(s, "suspects",
-                        "Held-out z of every tested effect (bars); dashed: the significance threshold. Bars below "
-                        "zero: the effect predicts held-out data worse than the model without it.",
-                        "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset key below horizontal\nset ylabel 'held-out z'\n"
-                        "set xtics rotate by -30\nset title 'suspects'\nplot 'suspects.csv' skip 1 using 0:2:xtic(1) "
-                        "with boxes lc rgb '#6baed6' notitle, 3 with lines dt 2 lc rgb 'black' title 'threshold', 0 "
-                        "with lines lc rgb 'gray' notitle");
+                        "Score-test z of every effect the model lacks, claimed effects first (red: claimed). An effect "
+                        "is claimed when its p is below alpha over the tested effects.",
+                        "set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset key below horizontal\nset ylabel 'z'\n"
+                        "set xtics rotate by -30\nset title 'suspects (score tests, all data)'\nplot 'suspects.csv' skip 1 "
+                        "using 0:($3 > 0 ? $2 : NaN):xtic(1) with boxes lc rgb '#cb181d' title 'claimed', '' skip 1 using "
+                        "0:($3 > 0 ? NaN : $2) with boxes lc rgb '#6baed6' title 'not claimed', 0 with lines lc rgb 'gray' notitle");
     }
-    if (!r.score_suspects.ranked.empty()) {
-      const auto& ss = r.score_suspects;
-      s.paragraphs.push_back(
-          "Likelihood score tests on all the data (" + g(static_cast<double>(ss.samples), 6) + " samples in " +
-          std::to_string(ss.records) + " records): for each effect the model lacks, how much the likelihood of "
-          "the model's filter rises when the effect's parameter leaves 0 (p after the scan over the parameters the "
-          "null leaves undetermined; z = the normal quantile of p). 'under the model' is how often the same test "
-          "claims the effect on data simulated from the model (the null); 'power' how often it would on data from "
-          "the model plus the fitted effect. Not significant with a high power: the effect is absent; with a low "
-          "power: too little data (the last column: the size these data would reveal).");
+    if (!r.suspects.ranked.empty()) {
+      auto& h = aside ? report.section("Set aside: held-out suspects (not a test on these data)") : s;
+      if (aside) h.paragraphs.push_back("NOT A TEST ON THESE DATA: " + r.suspects.set_aside + ". Shown for reference; nothing is claimed from them.");
+      std::vector<const diagnose::Suspect*> order;
+      for (const auto& sp : r.suspects.ranked) order.push_back(&sp);
+      std::stable_sort(order.begin(), order.end(), [](const auto* a, const auto* b) { return a->significant && !b->significant; });
+      h.paragraphs.push_back(
+          "Held-out suspects: each effect added to the model's terms, fitted by identify on the first part of every "
+          "record and scored on the held-out rest (" + g(r.suspects.baseline_heldout_rows, 6) + " rows in " +
+          std::to_string(r.suspects.blocks) + " blocks). Evidence = held-out log-likelihood gain in nats; z = gain / "
+          "its standard error over blocks. Claimed only when z is large, the gain positive and the model inadequate.");
       ReportTable t;
-      t.caption = "Score-test suspects (likelihood, all data), most likely first";
-      t.header = {"effect", "z", "p", "claimed", "under the model", "power", "fitted parameters", "detectable",
-                  "test", "add to identify-vehs config"};
-      for (std::size_t i = 0; i < ss.ranked.size(); ++i) {
-        const auto& sp = ss.ranked[i];
-        const std::string params = params_text(sp.params, sp.params_stderr);
-        t.rows.push_back({sp.effect, g(sp.z, 3), g(sp.p_value, 2), sp.significant ? "yes" : "no",
-                          g(sp.null_claim_rate, 2), g(sp.power, 2), params, sp.detectable, sp.test, sp.add});
-        if (sp.significant) t.highlight.push_back(i);
+      t.caption = aside ? "Held-out suspects, SET ASIDE" : "Held-out suspects, claimed first";
+      t.header = {"effect", "evidence (nats)", "z", "claimed", "fitted parameters"};
+      Table bars({"z", "evidence"}, "effect");
+      for (const auto* sp : order) {
+        t.rows.push_back({sp->effect, g(sp->evidence), g(sp->z, 3), aside ? "set aside" : sp->significant ? "yes" : "no",
+                          params_text(sp->params, sp->params_stderr)});
+        if (sp->significant && !aside) {
+          t.highlight.push_back(t.rows.size() - 1);
+          h.paragraphs.push_back("To fit " + sp->effect + ", merge into the identify-vehs config: " + suspect_add_fragment(*sp).dump());
+        }
+        bars.add_row(label_text(sp->effect), {std::isfinite(sp->z) ? sp->z : 0.0, sp->evidence});
       }
-      s.tables.push_back(t);
+      h.tables.push_back(t);
+      bars.write_csv(report.folder() + "/suspects_heldout.csv");
+      report.add_figure(h, "suspects_heldout",
+                        std::string(aside ? "SET ASIDE, not a test on these data: " : "") +
+                            "held-out z of every tested effect (bars); dashed: the significance threshold. Bars below "
+                            "zero: the effect predicts held-out data worse than the model without it.",
+                        std::string("set style fill solid 0.6\nset boxwidth 0.6\nset grid y\nset key below horizontal\nset ylabel 'held-out z'\n"
+                                    "set xtics rotate by -30\nset title '") + (aside ? "held-out suspects (SET ASIDE)" : "held-out suspects") +
+                            "'\nplot 'suspects_heldout.csv' skip 1 using 0:2:xtic(1) with boxes lc rgb '" + (aside ? "#bdbdbd" : "#6baed6") +
+                            "' notitle, 3 with lines dt 2 lc rgb 'black' title 'threshold', 0 with lines lc rgb 'gray' notitle");
     }
     if (!r.suspects.untested.empty()) {
       ReportTable t;
@@ -519,6 +690,28 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
     t.rows.push_back({"run time", g(total, 3) + " s"});
     s.tables.push_back(t);
   }
+}
+
+}  // namespace vehs::tools
+
+namespace vehs::tools {
+
+std::string write_refit_config(const std::string& folder, const diagnose::Result& result, const Model& model,
+                               const nlohmann::json& data_keys) {
+  const nlohmann::ordered_json refit = refit_config(result, model);
+  const std::string dir = std::filesystem::absolute(folder).string();
+  if (refit.is_null()) {  // a config of an earlier run would be a wrong next step now
+    std::error_code ec;
+    std::filesystem::remove(dir + "/refit.json", ec);
+    return "";
+  }
+  nlohmann::ordered_json cfg;
+  for (const auto& [k, v] : data_keys.items()) cfg[k] = v;
+  for (const auto& [k, v] : refit.items()) cfg[k] = v;
+  cfg["output"] = dir + "/refit_model.json";
+  const std::string path = dir + "/refit.json";
+  write_json_atomically(path, cfg);
+  return "identify-vehs " + path;
 }
 
 }  // namespace vehs::tools

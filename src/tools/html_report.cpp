@@ -72,6 +72,12 @@ td:first-child, th:first-child { text-align: left; }
 tr.highlight td { background: #fdd; }
 caption { caption-side: top; text-align: left; font-weight: 600; padding-bottom: .3em; }
 .missing { color: #a00; font-style: italic; }
+td { max-width: 24em; overflow-wrap: anywhere; }
+section.card { border: 2px solid #446; border-radius: 6px; padding: .2em 1.2em 1em; background: #f7f8fc; }
+section.card h2 { margin-top: .6em; }
+pre { background: #272822; color: #f8f8f2; padding: .6em 1em; border-radius: 4px; overflow-x: auto; }
+.verdict-adequate { color: #1a7a2e; font-weight: 700; }
+.verdict-inadequate { color: #b2182b; font-weight: 700; }
 )CSS";
 
 // After load: count figures that decoded into an attribute of the page (not shown) for
@@ -90,7 +96,9 @@ window.addEventListener('load', function () {
 ReportSection& Report::section(const std::string& title) {
   for (auto& s : sections_)
     if (s.title == title) return s;
-  sections_.push_back(ReportSection{title, {}, {}, {}, {}});
+  ReportSection s;
+  s.title = title;
+  sections_.push_back(std::move(s));
   return sections_.back();
 }
 
@@ -118,8 +126,10 @@ std::string Report::write_html() const {
     << html_escape(title_) << "</title>\n<style>" << kStyle << "</style></head>\n<body>\n<h1>"
     << html_escape(title_) << "</h1>\n";
   for (const auto& s : sections_) {
-    h << "<h2>" << html_escape(s.title) << "</h2>\n";
+    h << "<section" << (s.id.empty() ? "" : " id=\"" + html_escape(s.id) + "\"") << (s.card ? " class=\"card\"" : "")
+      << ">\n<h2>" << html_escape(s.title) << "</h2>\n";
     for (const auto& p : s.paragraphs) h << "<p>" << html_escape(p) << "</p>\n";
+    for (const auto& c : s.code) h << "<pre><code>" << html_escape(c) << "</code></pre>\n";
     if (!s.links.empty()) {
       h << "<ul>";
       for (const auto& l : s.links)
@@ -153,6 +163,7 @@ std::string Report::write_html() const {
       h << "<figcaption>" << html_escape(f.caption) << " <span class=\"files\">[" << html_escape(f.name)
         << ".svg, " << html_escape(f.name) << ".gp, data " << html_escape(f.name) << "*.csv]</span></figcaption></figure>\n";
     }
+    h << "</section>\n";
   }
   h << "<script>" << kCheckScript << "</script>\n</body></html>\n";
   const std::string path = (fs::path(folder_) / "index.html").string();

@@ -33,6 +33,9 @@ struct ReportSection {
   std::vector<ReportLink> links;        ///< a list of links after the paragraphs
   std::vector<ReportTable> tables;
   std::vector<ReportFigure> figures;
+  std::string id;                  ///< the section element's id (e.g. "top-card"); none when empty
+  bool card = false;               ///< drawn as a framed card (the page's summary)
+  std::vector<std::string> code;   ///< copy-paste commands, one block each, after the paragraphs
 };
 
 class Report {

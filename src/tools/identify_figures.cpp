@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <cstdio>
 #include <sstream>
+#include <tuple>
 
 #include "tools/figures.hpp"
 #include "tools/measurement_config.hpp"
@@ -70,14 +72,42 @@ void add_points(Table& t, const identify::BinnedCurve& c) {
     if (std::isfinite(c.mean[i])) t.add_row({c.at[i], c.mean[i], c.se[i]});
 }
 
+/// The diffusion panel's title: the sensor noise removed from the binned data (its share of
+/// the raw), or that the bins were dropped.
+std::string diffusion_title(const identify::BinnedEstimates& km) {
+  if (km.noise_sd == 0) return "diffusion a22(x, 0)";
+  char buf[160];
+  std::snprintf(buf, sizeof buf,
+                km.diffusion_bins_dropped > 0 ? "diffusion a22(x, 0); no data: sensor noise sd %.3g is %.3g %% of the raw"
+                                              : "diffusion a22(x, 0); data less sensor noise sd %.3g (%.3g %% of the raw)",
+                km.noise_sd, 100 * km.noise_share);
+  return buf;
+}
+
+/// The sensor noise sd of the fit with its standard error: the likelihood's measurement_sd when
+/// the model has one, else the moment fit's estimate (no standard error).
+std::pair<double, double> sensor_noise(const Model& m) {
+  if (!m.fit) return {0.0, 0.0};
+  if (const auto& l = m.fit->likelihood; l && l->measurement_sd > 0) {
+    double se = 0.0;
+    for (std::size_t i = 0; i < l->parameters.size(); ++i)
+      if (l->parameters[i] == "measurement_sd" && l->covariance.size() == l->parameters.size() * l->parameters.size())
+        se = std::sqrt(std::max(0.0, l->covariance[i * l->parameters.size() + i]));
+    return {l->measurement_sd, se};
+  }
+  return {m.fit->sampling.sensor_noise_sd, 0.0};
+}
+
 }  // namespace
 
 std::string identify_figure(const std::string& dir, const Model& model, const Dataset& data,
                             const nlohmann::json& units) {
   // (the folder is created by the first staged file: inside a run's transaction it goes with a rollback)
-  const identify::BinnedEstimates km = identify::binned_estimates(data, model);
+  identify::BinnedOptions bo;
+  std::tie(bo.noise_sd, bo.noise_sd_se) = sensor_noise(model);
+  const identify::BinnedEstimates km = identify::binned_estimates(data, model, bo);
   const auto x_only = [](const Term& t) { return !t.depends_on_y() && !t.depends_on_u(); };
-  const auto y_part = [](const Term& t) { return t.depends_on_y(); };
+  const auto y_part = [](const Term& t) { return t.depends_on_y() && !t.depends_on_u(); };
   const auto all = [](const Term&) { return true; };
   Table curves({"x", "drift_x", "drift_x_se", "U", "U_se", "a22", "a22_se", "v", "drift_v", "drift_v_se"});
   const double xlo = km.drift_x.at.front(), xhi = km.drift_x.at.back();
@@ -109,16 +139,17 @@ std::string identify_figure(const std::string& dir, const Model& model, const Da
      << "set title 'drift at y = 0: x-only terms'\nset xlabel " << gnuplot_quote(X) << "\nset ylabel " << gnuplot_quote(B) << "\n"
      << "plot 'identify_fit_model.csv' skip 1 using 1:($2-1.96*$3):($2+1.96*$3)" << band << ", '' skip 1 using 1:2"
      << line << ", 'identify_fit_km_x.csv' skip 1 using 1:2:3" << pts << "\n"
-     << "set title 'drift at x = 0: velocity terms'\nset xlabel " << gnuplot_quote(V) << "\n"
+     << "set title " << gnuplot_quote(std::string("drift at x = 0: velocity terms") + (model.uses_drive() ? " (data: input terms removed)" : ""))
+     << "\nset xlabel " << gnuplot_quote(V) << "\n"
      << "plot 'identify_fit_model.csv' skip 1 using 8:($9-1.96*$10):($9+1.96*$10)" << band << ", '' skip 1 using 8:9"
      << line << ", 'identify_fit_km_v.csv' skip 1 using 1:2:3" << pts << "\n"
      << "set title 'potential U(x) = -integral of the x-only drift'\nset xlabel " << gnuplot_quote(X)
      << "\nset ylabel " << gnuplot_quote(with_unit("U", "v2", units)) << "\n"
      << "plot 'identify_fit_model.csv' skip 1 using 1:($4-1.96*$5):($4+1.96*$5)" << band << ", '' skip 1 using 1:4"
      << line << "\n"
-     << "set title 'diffusion a22(x, 0)'\nset xlabel " << gnuplot_quote(X) << "\nset ylabel " << gnuplot_quote(A) << "\n"
+     << "set title " << gnuplot_quote(diffusion_title(km)) << "\nset xlabel " << gnuplot_quote(X) << "\nset ylabel " << gnuplot_quote(A) << "\n"
      << "plot 'identify_fit_model.csv' skip 1 using 1:($6-1.96*$7):($6+1.96*$7)" << band << ", '' skip 1 using 1:6"
-     << line << ", 'identify_fit_km_diffusion.csv' skip 1 using 1:2:3" << pts << "\nunset multiplot\n";
+     << line << (pd.rows.empty() ? "" : ", 'identify_fit_km_diffusion.csv' skip 1 using 1:2:3" + pts) << "\nunset multiplot\n";
   return render_figure(dir, "identify_fit", gp.str(), "svg", 1100, 860);
 }
 

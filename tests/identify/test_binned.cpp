@@ -17,6 +17,7 @@
 
 #include <cmath>
 #include <functional>
+#include <random>
 #include <vector>
 
 #include "identify/identify_fixtures.hpp"
@@ -80,4 +81,24 @@ TEST_CASE("binned Kramers-Moyal estimates match the exact drift and diffusion of
       CHECK(std::abs(t) <= bound);
     }
   std::printf("binned estimates: %d bins checked, largest |t| %.2f (bound %.2f)\n", m, worst, bound);
+}
+
+TEST_CASE("binned diffusion is dropped when the sensor noise is nearly all of it", "[identify][binned]") {
+  // white noise of sd 0.05 on x at h = 0.01: c·h·6s²/h⁴ ≈ 2e4 against a22 = 0.2, far over 95 %
+  const vehs::Model truth = vehs::model_from_json(
+      nlohmann::json{{"drift", {{"x", -1.0}, {"y", -0.5}}}, {"diffusion", {{"1", 0.2}}}}, "truth");
+  vehs::Dataset d = vehs_test::simulate(truth, 0.01, 20, 1, 50000, 4321);
+  std::mt19937_64 g(5);
+  std::normal_distribution<double> z(0.0, 0.05);
+  for (double& x : d.x.values()) x += z(g);
+  vehs::identify::BinnedOptions o;
+  o.bins = 20;
+  o.noise_sd = 0.05;
+  const auto be = vehs::identify::binned_estimates(d, truth, o);
+  CHECK(be.noise_share > 0.99);
+  CHECK(be.diffusion_bins_dropped > 10);
+  for (double m : be.diffusion.mean) CHECK_FALSE(std::isfinite(m));
+  o.noise_sd = 0.0;  // without the noise sd: the plateau, not a22
+  const auto raw = vehs::identify::binned_estimates(d, truth, o);
+  CHECK(raw.diffusion.mean[10] > 100 * 0.2);
 }

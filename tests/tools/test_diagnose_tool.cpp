@@ -18,6 +18,7 @@
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/io/measurements.hpp"
 #include "vehs/io/model_file.hpp"
+#include "tool_runs.hpp"
 
 namespace fs = std::filesystem;
 using namespace diag_test;
@@ -67,6 +68,26 @@ TEST_CASE("diagnose-vehs end to end: contract JSON, report in Chromium, history 
                       R"("], "output": ")" + (dir / "out1.json").string() + R"(", "report": ")" +
                       (dir / "report").string() + R"(", "replicates": 2, "parameter_draws": 4, "fpk_cells": 60})");
   REQUIRE(run({cfg, "--quiet"}) == 0);
+  // the next step of an inadequate model with a confirmed effect: a complete identify-vehs config
+  // beside the report, shown as one command in the page's top card, that fits the effect
+  const fs::path refit = dir / "report" / "refit.json";
+  REQUIRE(fs::exists(refit));
+  {
+    const auto rc = read_json(refit.string());
+    CHECK(rc["data"][0] == (dir / "data.npy").string());
+    CHECK(rc["effects"].dump().find("coulomb_friction") != std::string::npos);
+    const std::string page = chromium_dom((dir / "report" / "index.html").string());
+    const auto card = page.find("<section id=\"top-card\"");
+    REQUIRE(card != std::string::npos);
+    const std::string top = page.substr(card, page.find("</section>", card) - card);
+    CHECK(top.find("INADEQUATE") != std::string::npos);
+    CHECK(top.find("<code>identify-vehs " + refit.string() + "</code>") != std::string::npos);
+    CHECK(top.find("<th>standard error</th>") != std::string::npos);
+    CHECK(page.find("Where the model fails") != std::string::npos);
+    REQUIRE(vehs_tool_test::run_identify({refit.string(), "-q"}) == 0);
+    const auto refitted = read_json((dir / "report" / "refit_model.json").string());
+    CHECK(refitted["drift"].contains("sign(y)"));
+  }
   // version 2 is the true model form: its "adequate" is a null check, at α = 5e-5 (false failure
   // per run if the p-values are valid; the calibration tests measure them at 1 %). Version 1's
   // "inadequate" and first suspect are power checks: over seed shifts of test_diagnose.cpp's
@@ -145,6 +166,9 @@ TEST_CASE("diagnose-vehs end to end: contract JSON, report in Chromium, history 
   REQUIRE(step != std::string::npos);
   CHECK(step < dom.find("<figure"));
   CHECK(dom.find("ADEQUATE") < dom.find("<figure"));
+  // version 2 is adequate: no failure section, no stale refit config beside the report
+  CHECK(dom.find("Where the model fails") == std::string::npos);
+  CHECK_FALSE(fs::exists(refit));
   for (const char* v : {"versions/v1.html", "versions/v2.html"}) {
     CHECK(dom.find(v) != std::string::npos);
     CHECK(fs::exists(dir / "report" / v));
