@@ -190,7 +190,7 @@ const ConfigSchema& identify_schema() {
           {"data", "path | [paths]",
            "Measurement files: CSV (t, x [, traj, u] columns; `#` comments, `,` `;` or tab "
            "delimiters), .npy (structured, or 2-D with `columns`) or .mat. Required unless `study` "
-           "is given.",
+           "is given (or `measurement` names them). A path may be a glob pattern (\"run_*.csv\": the matching files in byte order, expanded by the tool, not a shell; a pattern that matches nothing is an error naming it).",
            "", true},
           {"output", "path",
            "Model file to write (JSON, atomically). In study mode: the study's JSON; a CSV table "
