@@ -103,8 +103,10 @@ Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
   std::optional<Dataset> suspect_subset;
   if (opt.suspects.enabled) suspect_subset = detail::add_suspects(model, data, opt, res, watch);
   if (opt.score_suspects.enabled) {
-    Phase phase(opt.progress, "score tests", 0, true);
-    detail::add_score_suspects(model, data, opt, res, watch);
+    Phase phase(opt.progress, "score tests", 0, true);  // a step per effect tested
+    Options counted = opt;
+    counted.score_suspects.tested = [&phase] { phase.advance(); };
+    detail::add_score_suspects(model, data, counted, res, watch);
   }
   detail::finish_verdict(res, opt.alpha);
   const bool bad = !res.adequate();
