@@ -100,18 +100,13 @@ void choose_input(const likelihood::ObservedModel& start, const Dataset& data, l
   if (o.log) o.log("likelihood: input " + out.input_reason);
 }
 
-/// The full refinement as the phase "likelihood fit": one step per fit and selection step (the
-/// lines the likelihood logs), the heartbeat in between.
+/// The full refinement as the phase "likelihood fit": one step per fit (warm starts and selection
+/// refits included) and per data set of the bias correction, the heartbeat in between.
 likelihood::Result refine_counted(likelihood::ObservedModel& start, const Dataset& data, likelihood::RefineOptions o,
                                   const MomentFit& moment_fit, const ProgressCallback& progress) {
   vehs::detail::ProgressCounter phase(progress, "likelihood fit", 0, true);
   if (o.per_record_phase && start.record_phases.empty()) likelihood::start_record_phases(start, data, moment_fit, o.filter);
-  if (progress) {
-    o.log = [&phase, log = o.log](const std::string& line) {
-      phase.advance();
-      if (log) log(line);
-    };
-  }
+  if (progress) o.step = [&phase] { phase.advance(); };
   likelihood::Result r = likelihood::refine(start, data, o);
   phase.finish();
   return r;

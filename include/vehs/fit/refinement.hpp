@@ -47,7 +47,7 @@ struct LikelihoodSettings {
   bool record_fit_info = true;
   /// Phases "likelihood starts" (the other moment fits and the brief fits from every start),
   /// "likelihood input" (the brief fits under zoh and band_limited) and "likelihood fit" (the full
-  /// refinement: its steps are its fits and selection steps; length not known in advance).
+  /// refinement: its steps are its fits and bias-correction data sets; length not known in advance).
   ProgressCallback progress;
 };
 
