@@ -21,6 +21,7 @@
 #include "vehs/likelihood/signals.hpp"
 #include "tools/identify_figures.hpp"
 #include "tools/measurement_config.hpp"
+#include "tools/terminal_progress.hpp"
 #include "tools/fit_sections.hpp"
 #include "tools/budget.hpp"
 #include "tools/study_output.hpp"
@@ -535,7 +536,7 @@ int run_identify(Config& c, const AppOptions& app) {
   }
   const std::string& detrend = loaded.detrend;
   std::function<void(const std::string&)> log;
-  if (!app.quiet) log = [](const std::string& line) { std::cerr << line << "\n"; };
+  if (!app.quiet) log = [](const std::string& line) { std::cerr << stderr_line_start() << line << "\n"; };
   std::optional<Dataset> ranged;
   IdentifiedInMemory identified = identify_in_memory(c, fit_options(c), loaded.data, app.progress, log, ranged, output);
   const Dataset& data = ranged ? *ranged : loaded.data;

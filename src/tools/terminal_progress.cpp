@@ -53,4 +53,9 @@ ProgressCallback terminal_progress() {
   return [display](const ProgressEvent& e) { (*display)(e); };
 }
 
+const char* stderr_line_start() {
+  static const bool terminal = isatty(fileno(stderr)) != 0;
+  return terminal ? "\r\033[K" : "";
+}
+
 }  // namespace vehs::tools

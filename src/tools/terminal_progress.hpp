@@ -11,4 +11,8 @@ namespace vehs::tools {
 /// display with its own throttle).
 ProgressCallback terminal_progress();
 
+/// What a line written to stderr between progress reports starts with: on a terminal, a return
+/// and a clear of the line (a progress line redrawn in place is open there), else nothing.
+const char* stderr_line_start();
+
 }  // namespace vehs::tools
