@@ -30,6 +30,13 @@ tools::Config config_from_json(const std::string& options_json, const std::strin
   std::vector<std::string> allowed;
   for (const auto& k : schema.keys)
     if (std::find(excluded.begin(), excluded.end(), k.name) == excluded.end()) allowed.push_back(k.name);
+  if (j.is_object() && j.contains("measurement")) {
+    tools::Config(j, where).check_keys(allowed);  // 'measurement' itself must be one of the call's keys
+    nlohmann::json given = j;
+    tools::include_measurement_file(j, where, schema);
+    for (const std::string& k : excluded)  // the call's own arguments (data, units, ...) are not taken from the file
+      if (!given.contains(k)) j.erase(k);
+  }
   tools::Config c(std::move(j), where);
   c.check_keys(allowed);
   return c;

@@ -59,15 +59,19 @@ class Records:
         return f"vehs.Records({len(self)} records, {sum(self.sizes)} samples, dt={self.dt:g})"
 
 
-def read(data, **options):
+def read(data=None, **options):
     """Records from measurement files (CSV, .npy, .mat), read and checked as identify-vehs and
     diagnose-vehs read them: the same readers and data checks, the same one-line errors (raised as
     :class:`vehs.Error`). ``data``: a path or a list of paths. Options are the tools' measurement
     keys: ``columns``, ``dt``, ``mat_variable``, ``sampling``, ``detrend``, ``glitches``,
     ``flat_stretches``; ``u=True`` requires the drive column in every file (it is read whenever a
-    file has it). identify and diagnose take the Records as checked here."""
+    file has it). identify and diagnose take the Records as checked here. A path may be a glob
+    pattern (``"rig/run_*.csv"``: the matching files in byte order, as in the tools' configs).
+    ``measurement="rig.json"``: a measurement file holding any of these keys and ``data`` (the
+    tools' ``measurement`` key); what the call gives itself wins."""
     from .options import options_json
-    options["data"] = [str(p) for p in data] if isinstance(data, (list, tuple)) else [str(data)]
+    if data is not None:
+        options["data"] = [str(p) for p in data] if isinstance(data, (list, tuple)) else [str(data)]
     return Records(_vehs.read(options_json("vehs.read", options)))
 
 

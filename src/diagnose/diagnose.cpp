@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "comparison.hpp"
+#include "vehs/core/detail/progress_counter.hpp"
 #include "vehs/core/error.hpp"
 
 namespace vehs::diagnose {
@@ -34,6 +35,9 @@ std::string Options::invalid_reason() const {
 
 namespace detail {
 
+/// A stage without units of its own: its name and elapsed time while it runs (heartbeat).
+using Phase = vehs::detail::ProgressCounter;
+
 Result compare_with_twins(const Model& model, const Dataset& data, const Options& opt, Stopwatch& watch) {
   if (auto why = opt.invalid_reason(); !why.empty()) throw Error("diagnose: " + why);
   validate_model(model, "model");
@@ -53,18 +57,22 @@ Result compare_with_twins(const Model& model, const Dataset& data, const Options
   Result res;
   res.records = data.records.size();
   res.samples = data.total_samples();
+  std::optional<Phase> setup(std::in_place, opt.progress, "diagnose setup", 0, true);
   const SamplingChoice sampling = choose_sampling_and_lens(model, data, opt, res);
   watch.lap(res, "sampling_pilot");
   Comparison cmp(model, data, opt, sampling.lens);
   cmp.plan = plan_units(data, sampling.lens, opt.min_units, res);
   make_setup(cmp, res);
+  setup.reset();
   watch.lap(res, "setup");
   compute_statistics(cmp, sampling.verdict, res, watch);
 
   // ---- tests: the one-step map, the paired components (with the model's parameter
   // uncertainty where it matters), the residual lines
+  std::optional<Phase> tests(std::in_place, opt.progress, "diagnose tests", 0, true);
   res.components.push_back(one_step_test(cmp, res.map));
   const std::vector<PairedStatistic> paired = paired_statistics(cmp.setup, cmp.units());
+  tests.reset();
   watch.lap(res, "tests_setup");
   std::vector<ExtraCovariance> extra;
   const int draws = parameter_uncertainty(cmp, paired, extra, res);
@@ -79,6 +87,7 @@ Result compare_with_twins(const Model& model, const Dataset& data, const Options
   watch.lap(res, "tests");
 
   // ---- what the report shows
+  Phase curves(opt.progress, "diagnose curves and fpk", 0, true);
   add_curves(cmp, res);
   add_fpk_reference(cmp, res);
   watch.lap(res, "fpk_reference");
@@ -88,21 +97,31 @@ Result compare_with_twins(const Model& model, const Dataset& data, const Options
 }  // namespace detail
 
 Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
+  using detail::Phase;
   detail::Stopwatch watch;
   Result res = detail::compare_with_twins(model, data, opt, watch);
   std::optional<Dataset> suspect_subset;
   if (opt.suspects.enabled) suspect_subset = detail::add_suspects(model, data, opt, res, watch);
-  if (opt.score_suspects.enabled) detail::add_score_suspects(model, data, opt, res, watch);
+  if (opt.score_suspects.enabled) {
+    Phase phase(opt.progress, "score tests", 0, true);  // a step per effect tested
+    Options counted = opt;
+    counted.score_suspects.tested = [&phase] { phase.advance(); };
+    detail::add_score_suspects(model, data, counted, res, watch);
+  }
   detail::finish_verdict(res, opt.alpha);
   const bool bad = !res.adequate();
   if (bad && opt.suspects.enabled && opt.suspects.confirm) {
+    Phase phase(opt.progress, "contender refits", 0, true);
     detail::confirm_contenders(model, suspect_subset ? *suspect_subset : data, res.lens, opt, res.suspects);
     watch.lap(res, "suspects_confirmation");
   }
   // a suspect is only claimed when the model is found inadequate
   for (auto& sp : res.suspects.ranked) sp.significant = sp.held_out_significant && bad;
   const bool refits = bad && opt.confirm.enabled;
-  if (refits) detail::confirm_suspects(model, data, opt, res, watch);
+  if (refits) {
+    Phase phase(opt.progress, "confirmation refits", 0, true);
+    detail::confirm_suspects(model, data, opt, res, watch);
+  }
   detail::conclude(res, refits);
   res.timings.emplace_back("total", watch.total_seconds());
   return res;

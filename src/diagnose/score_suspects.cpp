@@ -577,6 +577,7 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
       } catch (const std::exception& e) {
         for (const EffectId id : term_ids) untested(std::string(effect_spec(id).name), e.what());
       }
+      if (options.tested) options.tested();
     }
     for (std::size_t j = 0; j < jobs.size(); ++j) {
       try {
@@ -586,6 +587,7 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
       } catch (const std::exception& e) {
         untested(names[j], e.what());
       }
+      if (options.tested) options.tested();
     }
     if (!model.find_effect(EffectId::HarmonicForcing)) {
       try {
@@ -597,6 +599,7 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
       } catch (const std::exception& e) {
         untested("harmonic_forcing", e.what());
       }
+      if (options.tested) options.tested();
     }
   } catch (const std::exception& e) {
     rep.note = e.what();

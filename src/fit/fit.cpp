@@ -94,6 +94,7 @@ identify::Options moment_options(const Dataset& data, const FitOptions& options,
 void refine(FitSummary& s, const Dataset& data, const FitOptions& options, const identify::Options& o) {
   LikelihoodSettings lik = options.likelihood;
   lik.options.log = options.log;
+  lik.progress = options.progress;
   if (lik.options.select) lik.options.candidate_drift = o.drift_library, lik.options.candidate_diffusion = o.diffusion_library;
   identify::Options quiet = o;
   quiet.progress = {};

@@ -80,7 +80,8 @@ Dataset brief_share(const Dataset& data) {
 
 std::optional<likelihood::ObservedModel> best_start(std::vector<LikelihoodStart>& starts,
                                                     const std::vector<MomentCandidate>& candidates,
-                                                    const Dataset& data, const likelihood::RefineOptions& options) {
+                                                    const Dataset& data, const likelihood::RefineOptions& options,
+                                                    const std::function<void()>& fitted) {
   const likelihood::RefineOptions brief = brief_options(options);
   const Dataset on = brief_share(data);
   std::optional<likelihood::ObservedModel> best;
@@ -98,6 +99,7 @@ std::optional<likelihood::ObservedModel> best_start(std::vector<LikelihoodStart>
       s.status = std::string("failed: ") + e.what();
     }
     s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (fitted) fitted();
   }
   if (chosen) chosen->status = "chosen";
   if (options.log)

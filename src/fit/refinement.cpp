@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "vehs/core/detail/format.hpp"
+#include "vehs/core/detail/progress_counter.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/core/standard_errors.hpp"
 #include "vehs/likelihood/input_reading.hpp"
@@ -48,14 +49,15 @@ likelihood::ObservedModel choose_start(Model& model, const Dataset& data, const 
                            : settings.start_measurement_sd;
   likelihood::ObservedModel start{model, noise, settings.start_record_phases};
   if (!others) return start;
+  vehs::detail::ProgressCounter phase(settings.progress, "likelihood starts", 0, true);
   std::vector<MomentCandidate> candidates{{model.fit ? enum_to_string(kEstimatorNames, model.fit->estimator) : "given", model, {}}};
-  for (MomentCandidate& c : others()) candidates.push_back(std::move(c));
+  for (MomentCandidate& c : others()) candidates.push_back(std::move(c)), phase.advance();
   out.starts = likelihood_starts(candidates, o.estimate_measurement_noise);
   if (std::count_if(out.starts.begin(), out.starts.end(), [](const LikelihoodStart& s) { return s.status.empty(); }) < 2) {
     out.starts.clear();  // one start: the single refinement below
     return start;
   }
-  std::optional<likelihood::ObservedModel> best = best_start(out.starts, candidates, data, o);
+  std::optional<likelihood::ObservedModel> best = best_start(out.starts, candidates, data, o, [&] { phase.advance(); });
   if (!best) return start;  // every brief fit failed: the refinement from the given fit says why
   for (const LikelihoodStart& s : out.starts)
     if (s.status == "chosen") out.chosen_candidate = s.candidate;
@@ -68,9 +70,10 @@ likelihood::ObservedModel choose_start(Model& model, const Dataset& data, const 
 /// the input's gain 7–11 SE off, 491 nats below zoh), the likelihood can: the start is fitted
 /// briefly under zoh and under band-limited interpolation and the higher log L decides.
 void choose_input(const likelihood::ObservedModel& start, const Dataset& data, likelihood::RefineOptions& o,
-                  Refinement& out) {
+                  Refinement& out, const ProgressCallback& progress) {
   const bool long_records = std::all_of(data.records.begin(), data.records.end(), [](const Record& r) { return r.size >= 16; });
   if (!long_records) return;  // band-limited interpolation needs 16 samples: the spectrum's reading stands
+  vehs::detail::ProgressCounter phase(progress, "likelihood input", 2);
   const Dataset on = brief_share(data);
   likelihood::RefineOptions brief = brief_options(o);
   std::string results;
@@ -86,7 +89,9 @@ void choose_input(const likelihood::ObservedModel& start, const Dataset& data, l
     } catch (const Error& e) {
       results += (results.empty() ? "" : ", ") + name + " failed (" + e.what() + ")";
     }
+    phase.advance();
   }
+  phase.finish();
   if (!std::isfinite(best)) return;
   const std::string spectrum = out.input_reason;
   out.input_reason = enum_to_string(kInputInterpolationNames, chosen) + " by the likelihood (log L of a brief fit: " +
@@ -100,6 +105,18 @@ bool has_user_terms(const Model& m) {
     for (const auto& tc : *terms)
       if (tc.term.is_user()) return true;
   return false;
+}
+
+/// The full refinement as the phase "likelihood fit": one step per fit (warm starts and selection
+/// refits included) and per data set of the bias correction, the heartbeat in between.
+likelihood::Result refine_counted(likelihood::ObservedModel& start, const Dataset& data, likelihood::RefineOptions o,
+                                  const MomentFit& moment_fit, const ProgressCallback& progress) {
+  vehs::detail::ProgressCounter phase(progress, "likelihood fit", 0, true);
+  if (o.per_record_phase && start.record_phases.empty()) likelihood::start_record_phases(start, data, moment_fit, o.filter);
+  if (progress) o.step = [&phase] { phase.advance(); };
+  likelihood::Result r = likelihood::refine(start, data, o);
+  phase.finish();
+  return r;
 }
 
 }  // namespace
@@ -134,9 +151,8 @@ Refinement refine_moment_fit(Model& model, const Dataset& data, const Likelihood
       if (own.id == e.id) own.params = e.params;
   likelihood::ObservedModel start =
       choose_start(model, data, settings, o, o.per_record_phase ? MomentCandidates{} : others, out);
-  if (settings.input_auto && model.uses_drive() && data.has_u()) choose_input(start, data, o, out);
-  if (o.per_record_phase && start.record_phases.empty()) likelihood::start_record_phases(start, data, moment_fit, o.filter);
-  out.result = likelihood::refine(start, data, o);
+  if (settings.input_auto && model.uses_drive() && data.has_u()) choose_input(start, data, o, out, settings.progress);
+  out.result = refine_counted(start, data, o, moment_fit, settings.progress);
   const likelihood::Result& r = *out.result;
   FitInfo fit = model.fit ? *model.fit : FitInfo{};
   fit.input = o.filter.input;

@@ -456,7 +456,7 @@ Result identify_terms_once(const Dataset& data, const Options& options) {
   if (h2_correction) cx.jerk = &jerk;
   const int F = options.folds;
   const auto spans = make_spans(data, kin, F, 0);
-  vehs::detail::ProgressCounter progress(options.progress, "identify", 3 * static_cast<long long>(spans.size()));
+  vehs::detail::ProgressCounter progress(options.progress, "identify", 2 * static_cast<long long>(spans.size()));
 
   // pass 1: drift statistics per fold, drift selection. A state-dependent diffusion: the rows
   // where the lens does not hold under the pilot's (masked) drift are left out of both passes, as

@@ -125,6 +125,7 @@ void correct_filter_bias(Result& res, const Dataset& data, const RefineOptions& 
     if (!ev.derivatives(theta.data(), d, false, false, &f))
       throw FilterDiverged(ev.message(f) + " (a data set simulated at the estimate)");
     mean_score += d.gradient / double(B);
+    if (o.step) o.step();
   }
   // internal-scale covariance from the natural one: C_int = J⁻¹ C J⁻¹
   const Eigen::Index m = Eigen::Index(n);

@@ -418,6 +418,7 @@ Result fit_support(const ObservedModel& start, const Dataset& data, const Refine
   res.bic = -2.0 * res.log_likelihood + double(n) * std::log(double(ev.observations()));
   s.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   if (o.log) o.log(s.BriefReport());
+  if (o.step) o.step();
   return res;
 }
 

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "tools/file_globs.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/io/json_file.hpp"
 #include "vehs/io/path_text.hpp"
@@ -91,9 +92,33 @@ const KeySpec* ConfigSchema::find(const std::string& key) const {
 Config::Config(nlohmann::json value, std::string file, std::string path)
     : value_(std::move(value)), file_(std::move(file)), path_(std::move(path)) {}
 
+const std::vector<std::string>& measurement_file_keys() {
+  static const std::vector<std::string> keys{"data",   "columns", "mat_variable", "dt",           "sampling",
+                                             "detrend", "units",   "glitches",     "flat_stretches"};
+  return keys;
+}
+
+void include_measurement_file(nlohmann::json& j, const std::string& file, const ConfigSchema& schema) {
+  if (!j.contains("measurement") || !schema.find("measurement")) return;
+  const nlohmann::json& name = j["measurement"];
+  if (!name.is_string()) throw Error(file + ": 'measurement' must be the path of a measurement file (a string)");
+  const std::string path = name.get<std::string>();
+  check_path_text(path, file + ": 'measurement'");
+  const nlohmann::json m = read_json_file(path, "measurement file");
+  if (!m.is_object()) throw Error(path + ": a measurement file must be a JSON object");
+  const auto& allowed = measurement_file_keys();
+  for (auto it = m.begin(); it != m.end(); ++it) {
+    if (std::find(allowed.begin(), allowed.end(), it.key()) == allowed.end() || !schema.find(it.key()))
+      throw Error(path + ": unknown key '" + it.key() + "' in a measurement file (it holds data, columns, "
+                  "mat_variable, dt, sampling, detrend, units, glitches, flat_stretches)" + suggestion(it.key(), allowed));
+    if (!j.contains(it.key())) j[it.key()] = it.value();  // the config's own value wins
+  }
+}
+
 Config Config::load(const std::string& file, const ConfigSchema& schema) {
   nlohmann::json j = read_json_file(file, "config file");
   if (!j.is_object()) throw Error(file + ": a config must be a JSON object");
+  include_measurement_file(j, file, schema);
   Config c(std::move(j), file);
   std::vector<std::string> allowed;
   for (const auto& k : schema.keys) allowed.push_back(k.name);
@@ -261,7 +286,7 @@ std::string Config::path_or(const std::string& key, const std::string& fallback)
 std::vector<std::string> Config::path_list(const std::string& key) const {
   std::vector<std::string> paths = string_list(key);
   for (const auto& p : paths) check_path_text(p, where(key));
-  return paths;
+  return expand_file_globs(paths, where(key));
 }
 
 Config Config::object(const std::string& key, const std::vector<std::string>& allowed) const {

@@ -38,6 +38,15 @@ ConfigSchema with_keys_after(const std::string& after, const std::vector<KeySpec
 /// nullopt for anything else (2.5, 1e30, 2^64 - 1, a string).
 std::optional<long long> json_integer(const nlohmann::json& v);
 
+/// The keys a measurement file (`"measurement": "rig.json"`) may hold: the recordings of one rig
+/// described once for every tool's config.
+const std::vector<std::string>& measurement_file_keys();
+
+/// Merges the measurement file that `j["measurement"]` names (when `schema` has that key) into the
+/// config object `j`: each of its keys the config does not give itself. `file` names the config in
+/// errors; an unknown key or a file that is not a JSON object is a one-line error naming the file.
+void include_measurement_file(nlohmann::json& j, const std::string& file, const ConfigSchema& schema);
+
 class Config {
  public:
   Config(nlohmann::json value, std::string file, std::string path = "");
@@ -77,6 +86,7 @@ class Config {
   /// (vehs/io/path_text.hpp: a NUL would cut it) is an error naming the key.
   std::string path(const std::string& key) const;
   std::string path_or(const std::string& key, const std::string& fallback) const;
+  /// path_list also expands glob patterns (tools/file_globs.hpp): "run_*.csv" gives the matching files.
   std::vector<std::string> path_list(const std::string& key) const;
   /// A sub-object, rejecting keys outside `allowed` (empty: accept anything).
   Config object(const std::string& key, const std::vector<std::string>& allowed = {}) const;

@@ -13,6 +13,7 @@
 #include "tools/history.hpp"
 #include "tools/html_report.hpp"
 #include "tools/measurement_config.hpp"
+#include "tools/refit_config.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/io/output_transaction.hpp"
@@ -54,10 +55,15 @@ const ConfigSchema& diagnose_schema() {
       "by their held-out evidence (suspects).",
       {
           {"model", "path | object", "Model file to diagnose (docs/model-file.md), or the model inline.", ""},
-          {"data", "path | [paths]", "Measurement files: CSV (t, x [, traj, u] columns; `#` comments, `,` `;` or tab delimiters), .npy (structured, or 2-D with `columns`) or .mat.", ""},
+          {"data", "path | [paths]", "Measurement files: CSV (t, x [, traj, u] columns; `#` comments, `,` `;` or tab delimiters), .npy (structured, or 2-D with `columns`) or .mat (here or in the `measurement` file). A path may be a glob pattern (\"run_*.csv\": the matching files in byte order, expanded by the tool, not a shell; a pattern that matches nothing is an error naming it).", ""},
           {"output", "path", "JSON summary to write (atomically): verdict, score, components, suspects and details.", ""},
           {"report", "path", "Report folder (index.html, figures as SVG with their CSV data and gnuplot scripts, summary.json, history).",
            "<output without .json>_report"},
+          {"refit", "path",
+           "The identify-vehs config of the next fit, written when the diagnosis recommends effects: the "
+           "diagnosed model's terms with the recommended effects, this config's data keys and output "
+           "refit_model.json beside it; run it as it is (identify-vehs <report>/refit.json).",
+           "<report>/refit.json"},
           {"history", "path", "Model history file appended by every run (the report plots the score over model versions); runs sharing it take turns (lock file <history>.lock while one appends).",
            "<report>/history.json"},
           {"label", "string", "Name of this model version in the history and the report.", "the model file's name"},
@@ -296,12 +302,10 @@ int run_diagnose(Config& c, const AppOptions& app) {
                               e.value("verdict", "") + (v == version ? ", this page)" : ")"),
                           "versions/v" + std::to_string(v) + ".html"});
     }
-  nlohmann::json data_keys;  // what a refit config needs to read the same data
-  data_keys["data"] = files;
-  for (const char* k : {"columns", "dt", "sampling", "detrend"})
-    if (c.has(k)) data_keys[k] = c.raw(k);
-  if (!units.empty()) data_keys["units"] = units;
-  const std::string refit_command = write_refit_config(folder, r, model, data_keys);
+  // the next step as a config identify-vehs runs as it is (tools/refit_config.hpp)
+  const std::string refit_path = refit_config_path(c, folder);
+  const nlohmann::ordered_json refit = refit_identify_config(c, r, model, refit_path);
+  const std::string refit_command = refit.is_null() ? "" : "identify-vehs " + refit_path;
   add_diagnosis_to_report(report, r, label, entries, fingerprint, units, versions, &model, &data, refit_command);
   nlohmann::ordered_json j = diagnosis_to_json(r, &model);
   j["model"] = model_file;
@@ -314,6 +318,13 @@ int run_diagnose(Config& c, const AppOptions& app) {
   j["version_in_history"] = entries.back().value("version", 0);
   j["config"] = c.json();
   j["provenance"] = {{"tool", "diagnose-vehs"}, {"library", library_version()}};
+  j["refit_file"] = refit.is_null() ? nlohmann::ordered_json() : nlohmann::ordered_json(refit_path);
+  if (!refit.is_null()) {
+    write_json_atomically(refit_path, refit);
+  } else {  // a config of an earlier run would be a wrong next step now
+    std::error_code ec;
+    fs::remove(refit_path, ec);
+  }
   write_json_atomically((fs::path(folder) / "summary.json").string(), j);
   const std::string html = report.write_html();
   keep_version_page(html, folder, version);
@@ -358,6 +369,7 @@ int run_diagnose(Config& c, const AppOptions& app) {
       std::printf("Next step: add %s: run  %s\n", j["recommended"].dump().c_str(), refit_command.c_str());
     else
       std::printf("%s\n", next_step(r, &model).c_str());
+    if (!refit.is_null()) std::printf("refit config: %s (run it: identify-vehs %s)\n", refit_path.c_str(), refit_path.c_str());
     std::printf("report: %s\nsummary: %s\n", html.c_str(), output.c_str());
   }
   return fail_on_inadequate && r.verdict == diagnose::Verdict::Inadequate ? 3 : 0;

@@ -693,25 +693,3 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
 }
 
 }  // namespace vehs::tools
-
-namespace vehs::tools {
-
-std::string write_refit_config(const std::string& folder, const diagnose::Result& result, const Model& model,
-                               const nlohmann::json& data_keys) {
-  const nlohmann::ordered_json refit = refit_config(result, model);
-  const std::string dir = std::filesystem::absolute(folder).string();
-  if (refit.is_null()) {  // a config of an earlier run would be a wrong next step now
-    std::error_code ec;
-    std::filesystem::remove(dir + "/refit.json", ec);
-    return "";
-  }
-  nlohmann::ordered_json cfg;
-  for (const auto& [k, v] : data_keys.items()) cfg[k] = v;
-  for (const auto& [k, v] : refit.items()) cfg[k] = v;
-  cfg["output"] = dir + "/refit_model.json";
-  const std::string path = dir + "/refit.json";
-  write_json_atomically(path, cfg);
-  return "identify-vehs " + path;
-}
-
-}  // namespace vehs::tools

@@ -24,13 +24,6 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& result, con
                              const std::vector<ReportLink>& versions = {}, const Model* model = nullptr,
                              const Dataset* data = nullptr, const std::string& next_command = "");
 
-/// Writes <folder>/refit.json, a complete identify-vehs config that fits the model with the
-/// confirmed effects on the same data (`data_keys`: the data, columns, dt, sampling, detrend and
-/// units keys of the diagnose config; the refit model goes to <folder>/refit_model.json), and
-/// returns the command that runs it; "" (and no file) when no effect was confirmed.
-std::string write_refit_config(const std::string& folder, const diagnose::Result& result, const Model& model,
-                               const nlohmann::json& data_keys);
-
 /// The one-line next step of a diagnosis: what to change in the identify config (with `model`,
 /// the diagnosed model, the complete keys of refit_config; else the effects to add), or that
 /// nothing needs to change.

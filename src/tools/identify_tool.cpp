@@ -21,6 +21,7 @@
 #include "vehs/likelihood/signals.hpp"
 #include "tools/identify_figures.hpp"
 #include "tools/measurement_config.hpp"
+#include "tools/terminal_progress.hpp"
 #include "tools/fit_sections.hpp"
 #include "tools/budget.hpp"
 #include "tools/study_output.hpp"
@@ -190,7 +191,7 @@ const ConfigSchema& identify_schema() {
           {"data", "path | [paths]",
            "Measurement files: CSV (t, x [, traj, u] columns; `#` comments, `,` `;` or tab "
            "delimiters), .npy (structured, or 2-D with `columns`) or .mat. Required unless `study` "
-           "is given.",
+           "is given (or `measurement` names them). A path may be a glob pattern (\"run_*.csv\": the matching files in byte order, expanded by the tool, not a shell; a pattern that matches nothing is an error naming it).",
            "", true},
           {"output", "path",
            "Model file to write (JSON, atomically). In study mode: the study's JSON; a CSV table "
@@ -535,7 +536,7 @@ int run_identify(Config& c, const AppOptions& app) {
   }
   const std::string& detrend = loaded.detrend;
   std::function<void(const std::string&)> log;
-  if (!app.quiet) log = [](const std::string& line) { std::cerr << line << "\n"; };
+  if (!app.quiet) log = [](const std::string& line) { std::cerr << stderr_line_start() << line << "\n"; };
   std::optional<Dataset> ranged;
   IdentifiedInMemory identified = identify_in_memory(c, fit_options(c), loaded.data, app.progress, log, ranged, output);
   const Dataset& data = ranged ? *ranged : loaded.data;

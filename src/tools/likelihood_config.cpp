@@ -57,7 +57,10 @@ LikelihoodUse use_from_string(const Config& c, const std::string& key, const std
 
 std::string moment_estimator_name(const Config& c) {
   const std::string e = c.string_or("estimator", "auto");
-  return e == "likelihood" ? "auto" : e;
+  if (e == "likelihood") return "auto";
+  for (const auto& [id, name] : kEstimatorNames)
+    if (name == e) return e;
+  c.fail("estimator", "must be one of " + enum_choices(kEstimatorNames) + ", likelihood (got '" + e + "')");
 }
 
 LikelihoodSettings likelihood_settings(const Config& c) {

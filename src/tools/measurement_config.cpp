@@ -12,6 +12,11 @@ namespace vehs::tools {
 
 std::vector<KeySpec> measurement_keys() {
   return {
+      {"measurement", "path",
+       "A measurement file: a JSON object with any of the keys data, columns, mat_variable, dt, "
+       "sampling, detrend, units, glitches and flat_stretches, describing a rig's recordings once "
+       "for every config (identify, diagnose, vehs.read). The config's own keys win over the file's.",
+       "", true},
       {"columns", "object | [names]",
        "Column names in the files: {\"x\": ..., \"t\": ..., \"u\": ..., \"traj\": ...} (traj: the record "
        "id; rows of one record are contiguous), e.g. {\"x\": \"V2\", \"u\": \"V1\"} for the Silverbox "

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "tools/file_globs.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/io/path_text.hpp"
 
@@ -18,13 +19,13 @@ namespace {
 namespace fs = std::filesystem;
 
 bool is_output_file_key(const std::string& key) {
-  static const char* const keys[] = {"output", "summary", "density", "sweep_table", "history", "px", "py", "pxy"};
+  static const char* const keys[] = {"output", "summary", "density", "sweep_table", "history", "px", "py", "pxy", "refit"};
   return std::find(std::begin(keys), std::end(keys), key) != std::end(keys);
 }
 
 // keys whose string values name input files in every tool (the model may also be inline)
 bool is_input_file_key(const std::string& key) {
-  static const char* const keys[] = {"data", "model", "learned", "truth", "reported", "monte_carlo", "path"};
+  static const char* const keys[] = {"data", "model", "learned", "truth", "reported", "monte_carlo", "path", "measurement"};
   return std::find(std::begin(keys), std::end(keys), key) != std::end(keys);
 }
 
@@ -49,7 +50,20 @@ struct Walk {
     recover_stale_outputs(path);  // before the run reads or writes anything there
   }
 
+  /// An output that would overwrite the config itself (a name copied with the config's): say
+  /// which key to change. Sharing only the config's stem or folder is fine.
+  void not_the_config(const std::string& where, const std::string& path) const {
+    struct stat out {}, cfg {};  // the config exists: an output that does not is another file
+    if (path.empty() || ::stat(path.c_str(), &out) != 0 || ::stat(config.file().c_str(), &cfg) != 0) return;
+    if (out.st_dev != cfg.st_dev || out.st_ino != cfg.st_ino) return;
+    const fs::path p(path);
+    const std::string suggestion = (p.parent_path() / (p.stem().string() + "_out" + p.extension().string())).string();
+    throw Error(config.file() + ": '" + where + "' names this config file itself, which the run would overwrite; "
+                "change '" + where + "' to another file (e.g. \"" + suggestion + "\")");
+  }
+
   void output(const std::string& where, const std::string& path) {
+    not_the_config(where, path);
     try {
       transaction.check_output(path);
     } catch (const Error& e) {
@@ -61,6 +75,25 @@ struct Walk {
         throw Error(config.file() + ": '" + where + "' and '" + other_key + "' name the same file " + path +
                     " (give the outputs different names)");
     output_files.emplace_back(where, path);
+  }
+
+  static bool has_patterns(const nlohmann::json& v) {
+    if (v.is_string()) return has_glob_characters(v.get<std::string>());
+    return v.is_array() && std::any_of(v.begin(), v.end(), [](const nlohmann::json& e) { return has_patterns(e); });
+  }
+
+  // `data` with its glob patterns replaced by the files they match (as Config::path_list reads it)
+  nlohmann::json expanded(const std::string& where, const nlohmann::json& v) const {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& e : v.is_array() ? v : nlohmann::json::array({v})) {
+      if (!e.is_string()) {
+        out.push_back(e);
+        continue;
+      }
+      check_path_text(e.get<std::string>(), config.file() + ": '" + where + "'");
+      for (const std::string& p : expand_file_glob(e.get<std::string>(), config.file() + ": '" + where + "'")) out.push_back(p);
+    }
+    return out;
   }
 
   // Strings of one list naming the same file (by st_dev/st_ino: also through links and "./").
@@ -79,6 +112,7 @@ struct Walk {
   }
 
   void value(const std::string& where, const std::string& key, const nlohmann::json& v) {
+    if (key == "data" && has_patterns(v)) return value(where, key, expanded(where, v));
     if (v.is_string() && is_path_key(key)) check_path_text(v.get<std::string>(), config.file() + ": '" + where + "'");
     if (v.is_string() && is_output_file_key(key)) return output(where, v.get<std::string>());
     if (v.is_string() && is_output_folder_key(key)) return check_folder(where, v.get<std::string>());

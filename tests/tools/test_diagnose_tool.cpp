@@ -3,6 +3,7 @@
 // and bad inputs rejected with exit status 1.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -11,6 +12,7 @@
 
 #include "../diagnose/diagnose_fixtures.hpp"
 #include "chromium.hpp"
+#include "tool_runs.hpp"
 #include "tools/diagnosis_file.hpp"
 #include "tools/diagnosis_report.hpp"
 #include "tools/history.hpp"
@@ -121,9 +123,20 @@ TEST_CASE("diagnose-vehs end to end: contract JSON, report in Chromium, history 
   CHECK(j1["recommended"][0] == "coulomb_friction");
   CHECK(j1["conclusion"].get<std::string>().rfind("inadequate — add coulomb_friction", 0) == 0);
   CHECK(j1["outside_catalogue"] == false);
+  // the next fit as a file beside the report, which identify-vehs runs as it is (no hand merge)
+  REQUIRE(j1["refit_file"] == (dir / "report" / "refit.json").string());
+  const auto refit = read_json((dir / "report" / "refit.json").string());
+  CHECK(refit["data"] == nlohmann::json::array({(dir / "data.npy").string()}));
+  CHECK(refit["output"] == (dir / "report" / "refit_model.json").string());
+  CHECK(refit["effects"] == j1["recommended"]);  // the diagnosed model has no effects of its own
+  REQUIRE(vehs_tool_test::run_identify({(dir / "report" / "refit.json").string(), "--quiet"}) == 0);
+  const vehs::ModelFile refitted = vehs::read_model_file((dir / "report" / "refit_model.json").string());
+  CHECK(std::any_of(refitted.model.drift.begin(), refitted.model.drift.end(),
+                    [](const vehs::TermCoef& t) { return t.term.name() == "sign(y)"; }));  // the friction's term
   CHECK(j2["conclusion"] == "adequate");
   CHECK(j2["recommended"].empty());
   CHECK(j2["verdict"] == "adequate");
+  CHECK(j2["refit_file"].is_null());  // nothing to refit: no file named
   CHECK(j2["score"].get<double>() < j1["score"].get<double>());
   // coulomb_friction is in version 2: not a suspect any more
   for (const auto& sp : j2["suspects"]) CHECK(sp["effect"] != "coulomb_friction");

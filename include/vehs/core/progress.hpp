@@ -7,8 +7,10 @@
 
 namespace vehs {
 
-/// `done` of `total` units of `task` ("simulate", "identify", ...) are complete; `finished` on the
-/// last event of a task.
+/// `done` of `total` units of `task` ("simulate", "identify", "likelihood fit", ...) are complete;
+/// `finished` on the last event of a task. total 0: a phase whose length is not known in advance
+/// (done counts its steps so far). While a task runs, an event comes at least every half second (the
+/// count repeated when no unit completed), so a long unit of work is never silent.
 struct ProgressEvent {
   std::string_view task;
   long long done = 0;

@@ -135,7 +135,10 @@ struct Options {
   /// refitted and judged on held-out pieces of the records before any is recommended
   /// (confirmation.hpp). Off by default in the library (diagnose-vehs turns it on).
   ConfirmationOptions confirm;
-  ProgressCallback progress;           ///< tasks "diagnose", "parameter draws", "suspects"; empty: none
+  /// Tasks in order: "diagnose setup", "diagnose" (the twins), "diagnose tests", "parameter draws",
+  /// "diagnose curves and fpk", "suspects", "score tests", "contender refits", "confirmation refits"
+  /// (the stages that run); those of unknown length report their elapsed time. Empty: none.
+  ProgressCallback progress;
 
   std::string invalid_reason() const;
 };

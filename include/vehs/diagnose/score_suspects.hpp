@@ -48,6 +48,7 @@
 // probability of a claim when the data come from the model plus the fitted effect, asymptotic
 // for the score tests) — "not significant" with a high power means "absent", with a low power
 // "too little data"; `detectable` is the effect size the test finds with 90 % power here.
+#include <functional>
 #include <map>
 #include <string>
 #include <utility>
@@ -65,6 +66,7 @@ struct ScoreSuspectOptions {
   double forcing_band = 6.0;    ///< harmonic forcing scanned up to this multiple of ω̄
   double max_samples = 2.5e5;   ///< whole records, in order, up to this many samples, at least 2 (0: all)
   int threads = 0;              ///< 0: the OpenMP default
+  std::function<void()> tested = {};  ///< called after each test (an effect, the term effects together, the forcing scans)
   std::string invalid_reason() const;
 };
 

@@ -42,7 +42,8 @@ struct FitOptions {
   /// Under estimator auto, the likelihood starts from every moment fit (uli, noisy, forward) and
   /// keeps the highest (vehs/fit/likelihood_starts.hpp); false: from the chosen moment fit only.
   bool likelihood_starts = true;
-  ProgressCallback progress;                            ///< identify's streaming passes
+  /// identify's streaming passes ("identify"), then the likelihood's phases (LikelihoodSettings::progress)
+  ProgressCallback progress;
   std::function<void(const std::string&)> log;         ///< one line per step (empty: none)
 
   /// true when valid; else false with a one-line reason in `why` (when given).

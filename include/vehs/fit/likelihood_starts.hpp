@@ -61,9 +61,11 @@ likelihood::RefineOptions brief_options(const likelihood::RefineOptions& options
 Dataset brief_share(const Dataset& data);
 
 /// Fits every start briefly (see above) and marks the highest log L "chosen"; returns its
-/// refined model, or nothing when every brief fit failed. Logs one line per start.
+/// refined model, or nothing when every brief fit failed. Logs one line per start; calls `fitted`
+/// (when given) after each brief fit.
 std::optional<likelihood::ObservedModel> best_start(std::vector<LikelihoodStart>& starts,
                                                     const std::vector<MomentCandidate>& candidates,
-                                                    const Dataset& data, const likelihood::RefineOptions& options);
+                                                    const Dataset& data, const likelihood::RefineOptions& options,
+                                                    const std::function<void()>& fitted = {});
 
 }  // namespace vehs

@@ -10,6 +10,7 @@
 
 #include "vehs/core/dataset.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/core/progress.hpp"
 #include "vehs/fit/likelihood_starts.hpp"
 #include "vehs/likelihood/adequacy.hpp"
 #include "vehs/likelihood/refine.hpp"
@@ -44,6 +45,10 @@ struct LikelihoodSettings {
   /// errors are the refinement's own (diagnose's refits); true: FitInfo::likelihood and the
   /// standard errors from the likelihood's covariance.
   bool record_fit_info = true;
+  /// Phases "likelihood starts" (the other moment fits and the brief fits from every start),
+  /// "likelihood input" (the brief fits under zoh and band_limited) and "likelihood fit" (the full
+  /// refinement: its steps are its fits and bias-correction data sets; length not known in advance).
+  ProgressCallback progress;
 };
 
 struct Refinement {

@@ -121,6 +121,9 @@ struct RefineOptions {
   bool bias_correction_auto = false;
   /// Receives one line per fit and per selection step (the library itself never prints).
   std::function<void(const std::string&)> log;
+  /// Called after each unit of work (every fit, warm starts and selection refits included, and
+  /// every data set of the bias correction): progress reports count them.
+  std::function<void()> step = {};
 
   bool IsValid(std::string* error) const;
 };
