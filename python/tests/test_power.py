@@ -103,3 +103,22 @@ def test_stationary_and_plot_give_watts():
     est = {"watts": 1e-7, "stderr": 1e-8, "E[Y^2]": 1.0, "E[Y^2]_stderr": 0.1}
     ax = vehs.plot.power({"rig A": est, "rig B": dict(est, watts=2e-7)})
     assert "W" in ax.get_ylabel() and len(ax.containers) == 1  # one errorbar container
+
+
+def test_statistics_with_a_band_limited_drive_give_the_power(tmp_path, cli):
+    """simulate-vehs refused 'statistics' with a drive applied as the model was fitted
+    (band_limited); now it writes the mean power, and the held drive gives a different one."""
+    rec = records(n_records=2, n=4000, seed=9)
+    rows = [f"{r},{i * DT!r},{float(v)!r}" for r in range(2) for i, v in enumerate(rec.u[r])]
+    (tmp_path / "u.csv").write_text("traj,t,u\n" + "\n".join(rows) + "\n")
+    out = {}
+    for how in ("band_limited", "zoh"):
+        model = dict(LINEAR, estimator={"input": how})
+        (tmp_path / f"{how}.json").write_text(json.dumps(model))
+        cfg = {"model": str(tmp_path / f"{how}.json"), "drive": {"path": str(tmp_path / "u.csv")}, "trajectories": 2,
+               "duration": 4000 * DT, "dt": DT, "substeps": 8, "seed": 2, "harvester": {"electrical_damping": CE},
+               "statistics": {"output": str(tmp_path / f"{how}_s.json")}}
+        cli("simulate-vehs", cfg, tmp_path)
+        out[how] = json.loads((tmp_path / f"{how}_s.json").read_text())["mean_power"]
+        assert out[how]["watts"] > 0 and 0 < out[how]["stderr"] < 0.2 * out[how]["watts"]
+    assert out["band_limited"]["watts"] != out["zoh"]["watts"]
