@@ -10,7 +10,7 @@ venv="$(cd "$1" && pwd)/python-venv"
 if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv" >&2
 fi
-if ! "$venv/bin/python" -c "import nanobind, scikit_build_core, numpy, matplotlib, dask, distributed, pytest, tqdm" 2>/dev/null; then
+if ! "$venv/bin/python" -c "import nanobind, scikit_build_core, numpy, matplotlib, dask, distributed, pytest, tqdm, nbformat, nbclient, ipykernel" 2>/dev/null; then
   echo "python-env: installing $(tr '\n' ' ' < "$root/python/requirements-dev.txt")into $venv" >&2
   "$venv/bin/pip" install -q --disable-pip-version-check -r "$root/python/requirements-dev.txt" >&2
 fi

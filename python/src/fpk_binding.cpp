@@ -13,6 +13,7 @@
 #include "records.hpp"
 #include "tools/fpk_output.hpp"
 #include "tools/fpk_tool.hpp"
+#include "tools/power.hpp"
 #include "vehs/core/parameters.hpp"
 
 namespace vehs::python {
@@ -22,6 +23,7 @@ namespace {
 /// A solved density, kept for NumPy views.
 struct Stationary {
   std::shared_ptr<fpk::StationaryResult> result = std::make_shared<fpk::StationaryResult>();
+  nlohmann::ordered_json power;  ///< fpk-stationary's "mean_power"
 };
 
 Column view(nb::handle self, std::vector<double>& v) {
@@ -43,6 +45,13 @@ Stationary stationary(const ModelFile& model, const std::string& options_json, n
   *out.result = run_released(std::move(progress), false, [&](const ProgressCallback&) {
     return fpk::solve_with_domain(fm, st.grid, st.solve, st.domain);
   });
+  const tools::Config c = config_from_json(options_json, "vehs.stationary", tools::fpk_schema(),
+                                           {"model", "output", "density", "figures", "sweep_table"});
+  nlohmann::json harvester = tools::harvester_block(c);
+  if (harvester.empty() && model.sections.contains("harvester")) harvester = model.sections["harvester"];
+  const nlohmann::json units = model.sections.contains("units") ? nlohmann::json(model.sections["units"]) : nlohmann::json::object();
+  const tools::MeanPower p = tools::mean_power(out.result->moments.eyy, units, harvester);
+  out.power = {{"watts", p.available ? nlohmann::json(p.watts) : nlohmann::json(nullptr)}, {"how", p.formula}};
   return out;
 }
 
@@ -122,6 +131,15 @@ std::string sweep_block(const ModelFile& model, const std::string& options_json,
 }  // namespace
 
 void bind_fpk(nb::module_& m) {
+  m.def("mean_power",
+        [](double eyy, const std::string& units, const std::string& harvester) {
+          const tools::MeanPower p = tools::mean_power(eyy, nlohmann::json::parse(units), nlohmann::json::parse(harvester));
+          nlohmann::ordered_json j = {{"watts", p.available ? nlohmann::json(p.watts) : nlohmann::json(nullptr)},
+                                      {"how", p.formula}};
+          return json_text(j);
+        },
+        nb::arg("eyy"), nb::arg("units"), nb::arg("harvester"),
+        "fpk-stationary's mean power in W from E[Y^2] (JSON: watts, null without constants or SI units, and how).");
   nb::class_<Stationary>(m, "Stationary", "A stationary FPK density (vehs::fpk::StationaryResult).")
       .def_prop_ro("density", [](nb::handle_t<Stationary> self) {
         return view(self, nb::cast<Stationary&>(self).result->density);
@@ -133,7 +151,11 @@ void bind_fpk(nb::module_& m) {
         return view(self, nb::cast<Stationary&>(self).result->marginal_y);
       })
       .def("address", [](const Stationary& s) { return reinterpret_cast<std::uintptr_t>(s.result->density.data()); })
-      .def("summary", [](const Stationary& s) { return json_text(tools::result_to_json(*s.result)); });
+      .def("summary", [](const Stationary& s) {
+        nlohmann::ordered_json j = tools::result_to_json(*s.result);
+        j["mean_power"] = s.power;
+        return json_text(j);
+      });
   m.def("stationary", &stationary, nb::arg("model"), nb::arg("options"), nb::arg("progress").none());
   nb::class_<SweepPlan>(m, "SweepPlan", "A sweep's grid, point errors and symbolic analysis (vehs::fpk::SweepPlan).")
       .def_static("analysed", &analysed_plan, nb::arg("model"), nb::arg("options"), nb::arg("plan"),

@@ -37,14 +37,18 @@ tools::SimulateJob job_from_options(const ModelFile& model, const std::string& o
     for (const InColumn& u : *drive) series.emplace_back(u.data(), u.data() + u.shape(0));
   tools::SimulateJob job = tools::simulate_job_from_config(c, drive ? &series : nullptr);
   job.model = model.model;  // the typed model itself (no JSON round trip)
+  job.model_sections = model.sections;  // units and harvester, for the mean power in W
+  if (job.harvester.empty() && model.sections.contains("harvester")) job.harvester = model.sections["harvester"];
   return job;
 }
 
 /// The statistics as simulate-vehs writes them, plus each record's mean of every moment
 /// ("record_means", record order) and its batch means ("batch_means", record by record, with
 /// "batch_lengths") so that blocks of records merge exactly (vehs.dask.merge_statistics).
-std::string statistics_text(const tools::SimulateJob& job, const sim::MonteCarloStatistics& st) {
+std::string statistics_text(const tools::SimulateJob& job, const tools::SimulateRun& run) {
+  const sim::MonteCarloStatistics& st = run.statistics;
   nlohmann::ordered_json j = tools::statistics_to_json(st);
+  j["mean_power"] = run.power;
   nlohmann::ordered_json means = nlohmann::ordered_json::object();
   for (std::size_t k = 0; k < st.moments.size(); ++k) means[st.moments[k].first] = st.record_means[k];
   j["record_means"] = means;
@@ -74,14 +78,14 @@ std::pair<Records, std::string> simulate_records(const ModelFile& model, const s
   tools::SimulateRun run = run_job(job, std::move(progress));
   Records out;
   *out.data = std::move(run.data);  // the simulator's memory, handed over
-  return {out, job.with_statistics ? statistics_text(job, run.statistics) : std::string()};
+  return {out, job.with_statistics ? statistics_text(job, run) : std::string()};
 }
 
 std::string monte_carlo(const ModelFile& model, const std::string& options_json, nb::object progress,
                         const std::optional<Drive>& drive) {
   const tools::SimulateJob job = job_from_options(model, options_json, "vehs.monte_carlo", false, drive);
   if (!job.with_statistics) throw Error("vehs.monte_carlo: give 'statistics' (an object, {} for the defaults)");
-  return statistics_text(job, run_job(job, std::move(progress)).statistics);
+  return statistics_text(job, run_job(job, std::move(progress)));
 }
 
 }  // namespace

@@ -10,9 +10,10 @@ from .model import Model
 from .records import Records, as_records, read
 from .compute import FitOptions, diagnose, identify, identify_study, monte_carlo, simulate, stationary, sweep, Diagnosis, Stationary
 from .progress import tqdm_progress
+from .power import power
 
 __all__ = [
     "Error", "FitOptions", "Model", "Records", "as_records", "read", "simulate", "monte_carlo", "identify", "identify_study", "stationary",
-    "sweep", "diagnose", "Diagnosis", "Stationary", "set_threads", "max_threads", "tqdm_progress",
+    "sweep", "power", "diagnose", "Diagnosis", "Stationary", "set_threads", "max_threads", "tqdm_progress",
 ]
 __version__ = "0.1.0"

@@ -126,6 +126,7 @@ class Stationary:
     marginal_y: np.ndarray
     moments: dict
     summary: dict = field(repr=False)
+    power: dict = None  # fpk-stationary's mean_power: watts (null without harvester constants or SI units), how
     _core: object = field(repr=False, default=None)
 
 
@@ -136,8 +137,10 @@ def _centres(axis):
 
 def stationary(model, grid=None, progress=None, **options):
     """The stationary Fokker-Planck density of the model (fpk-stationary's keys: grid, scheme,
-    solver, ordering, boundary_mass_tolerance, auto_domain_efolds, ...). The density array is the
-    solver's own memory (no copy)."""
+    solver, ordering, boundary_mass_tolerance, auto_domain_efolds, harvester, ...). The density array
+    is the solver's own memory (no copy). ``power``: the mean power in W with ``harvester`` (or the
+    model file's) constants and SI units. A driven model (a 'u' term) has no stationary density:
+    use :func:`vehs.power` with its records."""
     if grid is not None:
         options["grid"] = grid
     core = _vehs.stationary(_core(model), options_json("vehs.stationary", options), progress)
@@ -145,7 +148,8 @@ def stationary(model, grid=None, progress=None, **options):
     g = summary["grid"]
     x, y = _centres(g["x"]), _centres(g["y"])
     return Stationary(density=core.density.reshape(x.size, y.size), x=x, y=y, marginal_x=core.marginal_x,
-                      marginal_y=core.marginal_y, moments={k: v for k, v in summary.items() if k.startswith("E[")}, summary=summary, _core=core)
+                      marginal_y=core.marginal_y, moments={k: v for k, v in summary.items() if k.startswith("E[")}, summary=summary,
+                      power=summary.get("mean_power"), _core=core)
 
 
 def sweep(model, sweep, grid=None, progress=None, **options):

@@ -1,6 +1,6 @@
 """matplotlib figures for notebooks: potential, drift and diffusion with bands and binned
 estimates from the records, the stationary density with its marginals, the suspects table, and
-power (E[Y^2]) against a swept parameter. Each function draws into ``ax`` (or a new figure) and
+mean power in W with error bars (or against a swept parameter). Each function draws into ``ax`` (or a new figure) and
 returns the axes."""
 import numpy as np
 
@@ -178,19 +178,41 @@ def suspects(diagnosis, ax=None):
     return ax
 
 
-def power(sweep, moment="E[Y^2]", ax=None):
-    """``moment`` (mean power is proportional to E[Y^2]) against the first swept parameter, one
-    line per value of the second."""
+def power(data, ax=None, units=None, harvester=None, moment="E[Y^2]"):
+    """Mean power in W with error bars (±2 standard errors): ``data`` is one :func:`vehs.power`
+    result, a list of them, or a dict {label: result}. A sweep (vehs.sweep) is drawn against its
+    first parameter (one line per value of the second), in W when ``units`` and ``harvester``
+    give the constants (vehs.power.watts), else as ``moment`` (to which the power is proportional)."""
     ax = _axes(ax)
+    if isinstance(data, dict) and "points" in data:
+        return _sweep_power(data, ax, units, harvester, moment)
+    if isinstance(data, dict) and "E[Y^2]" in data:
+        data = [data]
+    items = list(data.items()) if isinstance(data, dict) else [(str(i + 1), d) for i, d in enumerate(data)]
+    in_watts = all(d.get("watts") is not None for _, d in items)
+    value, err = ("watts", "stderr") if in_watts else ("E[Y^2]", "E[Y^2]_stderr")
+    pos = np.arange(len(items))
+    ax.errorbar(pos, [d[value] for _, d in items], yerr=[2 * d[err] for _, d in items], fmt="o", capsize=4)
+    ax.set_xticks(pos)
+    ax.set_xticklabels([k for k, _ in items])
+    ax.set_ylabel("mean power [W] (±2 SE)" if in_watts else "E[Y^2] (±2 SE; power ∝ E[Y^2])")
+    return ax
+
+
+def _sweep_power(sweep, ax, units, harvester, moment):
+    from .power import watts
+
     names = [p["name"] for p in sweep["parameters"]]
     pts = [p for p in sweep["points"] if "error" not in p]
+    in_watts = moment == "E[Y^2]" and watts(1.0, units, harvester) is not None
+    scale = watts(1.0, units, harvester) if in_watts else 1.0
     if len(names) == 1:
-        ax.plot([p[names[0]] for p in pts], [p[moment] for p in pts], "o-")
+        ax.plot([p[names[0]] for p in pts], [scale * p[moment] for p in pts], "o-")
     else:
         for v in sweep["parameters"][1]["values"]:
             sel = [p for p in pts if p[names[1]] == v]
-            ax.plot([p[names[0]] for p in sel], [p[moment] for p in sel], "o-", label=f"{names[1]} = {v:g}")
+            ax.plot([p[names[0]] for p in sel], [scale * p[moment] for p in sel], "o-", label=f"{names[1]} = {v:g}")
         ax.legend()
     ax.set_xlabel(names[0])
-    ax.set_ylabel(moment)
+    ax.set_ylabel("mean power [W]" if in_watts else moment)
     return ax

@@ -24,7 +24,8 @@ FpkModel::FpkModel(const Model& model, const std::string& where) : model_(model)
   for (const auto& tc : model_.drift) {
     if (tc.term.depends_on_u() && tc.coef != 0.0)
       throw Error(where_ + ": drift term 'u' (a recorded drive) makes the process time-dependent; "
-                           "a stationary Fokker-Planck density does not exist");
+                           "a stationary Fokker-Planck density does not exist; for its mean power run simulate-vehs "
+                           "with the recorded input as 'drive' and 'statistics' (docs/outputs.md, Mean power)");
     if (tc.term.kind == TermKind::SignY && tc.coef != 0.0) has_sign_y_ = true;
   }
   for (const auto& e : model_.effects) {

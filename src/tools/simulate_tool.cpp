@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "tools/budget.hpp"
+#include "tools/power.hpp"
+#include "tools/power_estimate.hpp"
 #include "tools/statistics_file.hpp"
 #include "tools/validation.hpp"
 #include "vehs/core/detail/format.hpp"
@@ -84,10 +86,14 @@ const ConfigSchema& simulate_schema() {
            "of each record (default 0), \"grid\": {\"x\": [min, max, n], \"y\": [min, max, n]} for "
            "histograms on fpk-stationary's cell-centred grid, \"px\", \"py\", \"pxy\": CSV paths "
            "(default: beside the JSON), \"batches\": batches per record for batch-means errors "
-           "(default 32)}. The JSON has E[X], E[Y], E[X^2], E[Y^2], E[XY], E[X^4] (and E[V^2] with "
-           "electromechanical coupling) and \"stderr\" for each: from the spread of independent "
-           "records when there are >= 16, else from batch means.",
+           "(default 32), \"parameters\": true to add the fitted model's parameter errors to the "
+           "power's standard error (delta method; 2 more runs per parameter)}. The JSON has E[X], "
+           "E[Y], E[X^2], E[Y^2], E[XY], E[X^4] (and E[V^2] with electromechanical coupling) and "
+           "\"stderr\" for each: from the spread of independent records when there are >= 16, else "
+           "from batch means; and \"mean_power\" (W with 'harvester', with its standard error). "
+           "Works with any drive (zero-order hold or the model's interpolated input).",
            "", true},
+          harvester_key(),
           {"first_record", "integer >= 0",
            "Id of the first record (traj column and random stream): runs with first_record = 0 and "
            "= 100 give the same records as one run of 200.",
@@ -322,8 +328,10 @@ SimulateJob simulate_job_from_config(const Config& c, const std::vector<std::vec
         c.fail("output", "'" + job.output + "' names a " + binary + " file, which simulate-vehs does not write (.npy: NumPy binary; any other name: CSV)");
   }
   if (c.has("statistics")) {
-    const Config s = c.object("statistics", {"output", "discard", "grid", "px", "py", "pxy", "batches"});
+    const Config s = c.object("statistics", {"output", "discard", "grid", "px", "py", "pxy", "batches", "parameters"});
     job.with_statistics = true;
+    job.power_parameters = s.boolean_or("parameters", false);
+    if (job.power_parameters) (void)uncertain_parameters(job.model, s.where("parameters"));
     job.statistics_json = s.path("output");
     job.statistics.discard = s.non_negative_or("discard", 0.0);
     job.statistics.batches = static_cast<std::size_t>(s.integer_at_least("batches", 2, 32));
@@ -353,6 +361,8 @@ SimulateJob simulate_job_from_config(const Config& c, const std::vector<std::vec
                               num(kept) + " samples per record after 'discard')");
     }
   }
+  job.harvester = harvester_block(c);
+  if (job.harvester.empty() && job.model_sections.contains("harvester")) job.harvester = job.model_sections["harvester"];
   if (job.output.empty() && !job.with_statistics)
     throw Error(c.file() + ": give 'output' (records) and/or 'statistics' — nothing would be written");
   if (c.has("summary")) job.summary = c.path("summary");
@@ -410,9 +420,6 @@ SimulateRun simulate_job(const SimulateJob& job, const ProgressCallback& progres
   const bool interpolated = how != InputInterpolation::ZeroOrderHold && (!o.drive.empty() || !o.drive_per_record.empty());
   const auto factor = static_cast<std::size_t>(o.substeps);
   if (interpolated) {
-    if (job.with_statistics)
-      throw Error(job.config_file + ": 'statistics' with a drive applied as \"" + enum_to_string(kInputInterpolationNames, how) +
-                  "\" (the model's estimator.input) is not supported: simulate records ('output') instead");
     const std::size_t series = o.drive.empty() ? o.drive_per_record.size() : 1;
     o.dt /= static_cast<double>(factor);
     o.samples = (o.samples - 1) * factor + 1;
@@ -424,6 +431,11 @@ SimulateRun simulate_job(const SimulateJob& job, const ProgressCallback& progres
   }
   if (job.with_statistics) {
     run.statistics = simulate_statistics(job.model, o, job.statistics, &summary, job.output.empty() ? nullptr : &data);
+    const RunEyy again = [&](const Model& m) { return simulate_statistics(m, o, job.statistics).moment("E[Y^2]"); };
+    const nlohmann::json units = job.model_sections.contains("units") ? nlohmann::json(job.model_sections["units"])
+                                                                       : nlohmann::json::object();
+    run.power = power_section(job.model, run.statistics.moment("E[Y^2]"), units, job.harvester, job.power_parameters,
+                              again, run.statistics.error_method);
   } else if (!job.record_phases.empty()) {
     // one run per record with its phase; first_record keeps each record's random stream
     SimulationOptions one = o;
@@ -479,6 +491,7 @@ int run_simulate_job(const SimulateJob& job, const AppOptions& app) {
     sim["first_record"] = o.first_record;
     nlohmann::ordered_json extra;
     extra["simulation"] = sim;
+    extra["mean_power"] = run.power;
     extra["model"] = model_to_json(job.model, job.model_sections);  // lets vehs-compare check what it labels
     write_statistics(stats, job.statistics_json, job.px_csv, job.py_csv, job.pxy_csv, extra);
   }
@@ -512,6 +525,9 @@ int run_simulate_job(const SimulateJob& job, const AppOptions& app) {
       const auto& ex2 = stats.moment("E[X^2]");
       std::fprintf(stderr, "  statistics -> %s  (E[X^2] = %.5g ± %.2g, E[Y^2] = %.5g ± %.2g)\n",
                    job.statistics_json.c_str(), ex2.value, ex2.stderr_, ey2.value, ey2.stderr_);
+      if (!run.power["watts"].is_null())
+        std::fprintf(stderr, "  mean power %.5g W ± %.2g (%s)\n", run.power["watts"].get<double>(),
+                     run.power["stderr"].get<double>(), run.power["error_method"].get<std::string>().c_str());
     }
   }
   return 0;

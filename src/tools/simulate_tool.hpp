@@ -28,6 +28,10 @@ struct SimulateJob {
   /// harmonic_forcing phase of each trajectory (records started at unrelated times; from the
   /// config's record_phases or the model file's likelihood.record_phases); empty: the model's
   std::vector<double> record_phases;
+  /// Electrical constants for the mean power in W (config `harvester`, else the model file's).
+  nlohmann::json harvester = nlohmann::json::object();
+  /// statistics.parameters: the power's error also carries the fitted parameters' covariance.
+  bool power_parameters = false;
 };
 
 /// The key table of simulate-vehs.
@@ -47,6 +51,7 @@ struct SimulateRun {
   Dataset data;
   sim::MonteCarloStatistics statistics;
   sim::SimulationSummary summary;
+  nlohmann::ordered_json power;  ///< "mean_power" of the statistics (with_statistics only)
 };
 SimulateRun simulate_job(const SimulateJob& job, const ProgressCallback& progress);
 
