@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include "vehs/core/error.hpp"
+#include "vehs/core/scaling.hpp"
 
 namespace vehs {
 
@@ -28,6 +31,19 @@ Location term_location(bool diffusion, Term term, double sign) {
   return loc;
 }
 
+std::optional<Location> term_of_effect_parameter(EffectId id, const std::string& param);
+
+/// An effect's parameter: the term it stands for when the effect is term-like, else the effect's.
+Location effect_location(EffectId id, const std::string& param, const std::string& name) {
+  if (auto why = unknown_parameter(id, param); !why.empty()) throw Error("parameter '" + name + "'" + why);
+  if (auto loc = term_of_effect_parameter(id, param)) return *loc;
+  Location loc;
+  loc.effect = true;
+  loc.effect_id = id;
+  loc.effect_param = param;
+  return loc;
+}
+
 Location locate(const std::string& name) {
   Location loc;
   if (name == "beta") return term_location(false, Term::monomial(0, 1), -1.0);
@@ -46,24 +62,55 @@ Location locate(const std::string& name) {
   }
   const auto dot = name.find('.');
   if (dot != std::string::npos) {
-    loc.effect = true;
-    loc.effect_id = enum_from_string(kEffectNames, name.substr(0, dot), "parameter '" + name + "'");
-    loc.effect_param = name.substr(dot + 1);
-    return loc;
+    const EffectId id = enum_from_string(kEffectNames, name.substr(0, dot), "parameter '" + name + "'");
+    return effect_location(id, name.substr(dot + 1), name);
+  }
+  // a bare effect parameter ("mu"): the one effect of the catalogue that has it
+  std::vector<EffectId> owners;
+  for (const auto& spec : effect_catalogue())
+    for (const auto& ps : spec.params)
+      if (ps.name == name) owners.push_back(spec.id);
+  if (owners.size() == 1) return effect_location(owners.front(), name, name);
+  if (owners.size() > 1) {
+    std::string list;
+    for (EffectId id : owners) list += (list.empty() ? "" : ", ") + enum_to_string(kEffectNames, id) + "." + name;
+    throw Error("parameter '" + name + "' is ambiguous (write one of: " + list + ")");
   }
   throw Error("unknown parameter '" + name +
-              "' (known: beta, k<i>, 2D, 2Q, D, Q, drift[<term>], diffusion[<term>], <effect>.<param>)");
+              "' (known: beta, k<i>, 2D, 2Q, D, Q, drift[<term>], diffusion[<term>], <effect>.<param> "
+              "or an effect's parameter alone, e.g. mu)");
 }
 
-std::string name_of(const Term& t, bool diffusion) {
-  if (!diffusion) {
-    if (t.kind == TermKind::Monomial && t.py == 1 && t.px == 0) return "beta";
-    if (t.kind == TermKind::Monomial && t.py == 0) return "k" + std::to_string(t.px);
-    return "drift[" + t.name() + "]";
-  }
-  if (t.kind == TermKind::Monomial && t.py == 0 && t.px == 0) return "2D";
-  if (t.kind == TermKind::Monomial && t.py == 0 && t.px == 2) return "2Q";
-  return "diffusion[" + t.name() + "]";
+/// The term (and its sign) a term-like effect's parameter stands for: coulomb_friction.mu is
+/// −drift[sign(y)].
+std::optional<Location> term_of_effect_parameter(EffectId id, const std::string& param) {
+  if (!effect_spec(id).term_like) return std::nullopt;
+  Effect unit;
+  unit.id = id;
+  unit.params[param] = 1.0;
+  const EffectTerms t = effect_terms(unit);
+  if (t.drift.size() + t.diffusion.size() != 1) return std::nullopt;
+  const bool diffusion = t.drift.empty();
+  const TermCoef& tc = diffusion ? t.diffusion.front() : t.drift.front();
+  return term_location(diffusion, tc.term, tc.coef);
+}
+
+/// The physical name of a coefficient and the sign from coefficient to parameter: the paper's
+/// (beta, k<i>, 2D, 2Q), a term-like effect's parameter (coulomb_friction.mu for sign(y)), else
+/// the coefficient itself (drift[x^2], diffusion[x]).
+std::pair<std::string, double> name_of(const Term& t, bool diffusion) {
+  const bool mono = t.kind == TermKind::Monomial;
+  if (!diffusion && mono && t.py == 1 && t.px == 0) return {"beta", -1.0};
+  if (!diffusion && mono && t.py == 0) return {"k" + std::to_string(t.px), -1.0};
+  if (diffusion && mono && t.py == 0 && t.px == 0) return {"2D", 1.0};
+  if (diffusion && mono && t.py == 0 && t.px == 2) return {"2Q", 1.0};
+  for (const auto& spec : effect_catalogue())
+    for (const auto& ps : spec.params) {
+      const auto loc = term_of_effect_parameter(spec.id, std::string(ps.name));
+      if (loc && loc->diffusion == diffusion && loc->term == t)
+        return {std::string(spec.name) + "." + std::string(ps.name), loc->sign};
+    }
+  return {std::string(diffusion ? "diffusion[" : "drift[") + t.name() + "]", 1.0};
 }
 
 }  // namespace
@@ -74,11 +121,12 @@ std::vector<PhysicalParameter> physical_parameters(const Model& m) {
     std::vector<PhysicalParameter> part;
     for (const auto& tc : list) {
       PhysicalParameter p;
-      p.name = name_of(tc.term, diffusion);
-      const bool negate = !diffusion && tc.term.kind == TermKind::Monomial &&
-                          ((tc.term.py == 1 && tc.term.px == 0) || tc.term.py == 0);
-      p.value = negate ? -tc.coef : tc.coef;
-      if (auto it = se.find(tc.term.name()); it != se.end()) p.stderr_ = it->second;
+      const auto [name, sign] = name_of(tc.term, diffusion);
+      p.name = name;
+      p.coefficient = std::string(diffusion ? "diffusion[" : "drift[") + tc.term.name() + "]";
+      p.sign = sign;
+      p.value = sign * tc.coef;
+      if (auto it = se.find(tc.term.name()); it != se.end()) p.stderr_ = std::abs(sign) * it->second;
       part.push_back(p);
     }
     // beta first, then k_i by power, then the rest in canonical term order
@@ -138,6 +186,21 @@ void set_parameter(Model& m, const std::string& name, double value) {
     }
   list.push_back({loc.term, value / loc.sign});
   canonicalize(list, name);
+}
+
+Dimension parameter_dimension(const std::string& name) {
+  const Location loc = locate(name);
+  // the unit conversion of scaling.hpp is the one source: a parameter scales as L^a T^b U^c
+  auto scale = [&](const Scales& s) {
+    if (loc.effect) return effect_parameter_scale(loc.effect_id, loc.effect_param, s);
+    return loc.diffusion ? diffusion_coefficient_scale(loc.term, s) : drift_coefficient_scale(loc.term, s);
+  };
+  auto power = [&](double L, double T, double U) {
+    Scales s;
+    s.length = L, s.time = T, s.input = U;
+    return static_cast<int>(std::lround(std::log2(scale(s))));
+  };
+  return {power(2.0, 1.0, 1.0), power(1.0, 2.0, 1.0), power(1.0, 1.0, 2.0)};
 }
 
 }  // namespace vehs

@@ -43,6 +43,15 @@ double rounding_share(const Pilot& diag, const Quantisation& quant, double dt) {
   return std::min(1.0, 6.0 * quant.noise_variance() / (h * h * h * h * diag.V));
 }
 
+std::string noise_share_text(double share) {
+  // 100 % is pure white noise, no motion at all: a saturated reading says only that the lags
+  // look white at this stride (fast motion sampled coarsely reads the same), not how much noise
+  if (!(share < kSaturatedNoiseShare))
+    return "the ULI acceleration looks white at the recorded step (sensor noise or motion too fast for the "
+           "sampling; the share of sensor noise is not resolved there)";
+  return "white sensor noise makes up about " + fmt(100 * share) + " % of the variance of the ULI acceleration";
+}
+
 EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested, double omega_dt, double rounding,
                                    double grid_step, double rows) {
   EstimatorDecision d;
@@ -54,8 +63,7 @@ EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested, doubl
   const std::string at = diag.k > 1 ? " at stride " + std::to_string(diag.k) : "";
   if (rule.noisy) {
     d.estimator = Estimator::Noisy;
-    d.reason = "white sensor noise makes up " + fmt(100 * rule.noise_share) +
-               " % of the variance of the ULI acceleration (lag-2k autocorrelation " + fmt(diag.rho_2k) +
+    d.reason = noise_share_text(rule.noise_share) + " (lag-2k autocorrelation " + fmt(diag.rho_2k) +
                " above lag-3k " + fmt(diag.rho_3k) + at + ")";
   } else if (rule.continuous && adc_noise_matters(rounding, rows)) {
     d.estimator = Estimator::Noisy;

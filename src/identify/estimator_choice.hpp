@@ -23,6 +23,14 @@ struct EstimatorDecision {
 /// the pilot's stride: 6 (q²/12)/h⁴ over the residuals' mean square (0 off a grid).
 double rounding_share(const Pilot& diag, const Quantisation& quant, double dt);
 
+/// A noise share read at or above this (η = 6 (ρ_2k − ρ_3k) clamped to 1) is saturated: the
+/// lags look white, which says nothing of how much of it is sensor noise.
+inline constexpr double kSaturatedNoiseShare = 0.95;
+
+/// The noisy verdict's wording: the share "about 12 %" when resolved, else that the lags look
+/// white without a share.
+std::string noise_share_text(double share);
+
 /// The estimator for the pilot's diagnosis (`requested` unless it is auto): noisy, uli or forward,
 /// with the figures that decided in the reason (estimator_choice.cpp gives the rules).
 EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested, double omega_dt, double rounding,

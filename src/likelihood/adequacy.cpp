@@ -31,8 +31,10 @@ std::string moment_fit_doubt(const Model& fit, const Dataset& data, double best_
   if (fit.fit) {
     const SamplingDiagnosis& s = fit.fit->sampling;
     if (s.verdict == SamplingVerdict::Noisy && s.stride == 1)
-      return ": white sensor noise (" + g(100.0 * s.noise_share) +
-             " % of the ULI acceleration's variance): the noisy estimator's expansion leaves biased "
+      return ": white sensor noise (" +
+             (s.noise_share < 0.95 ? "about " + g(100.0 * s.noise_share) + " % of the ULI acceleration's variance"
+                                   : std::string("the ULI acceleration looks white at the recorded step, share not resolved")) +
+             "): the noisy estimator's expansion leaves biased "
              "estimates and too small SEs; the likelihood models the noise";
   }
   const double dt = data.records.empty() ? 0.0 : data.records.front().dt;

@@ -14,6 +14,7 @@
 #include "tools/html_report.hpp"
 #include "tools/measurement_config.hpp"
 #include "tools/refit_config.hpp"
+#include "tools/parameter_table.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/io/output_transaction.hpp"
@@ -338,6 +339,7 @@ int run_diagnose(Config& c, const AppOptions& app) {
                                          (comp.test.p_value < r.threshold ? "  FAILED" : ""))
                                             .c_str()
                                       : ("not available: " + comp.test.note).c_str());
+    std::printf("model parameters:\n%s", parameter_table(model, units, "  ").c_str());
     // held-out suspects of a split set aside come last: they are not a test on these data
     const bool aside = !r.suspects.set_aside.empty();
     const auto print_heldout = [&] {

@@ -86,7 +86,8 @@ ConfigSchema make_schema() {
       {"sweep", "object", "One or two model parameters, each [min, max, n] (n evenly spaced values) or "
                           "{\"values\": [...]}: e.g. {\"2D\": [0.01, 0.03, 9], \"2Q\": [0.005, 0.02, "
                           "7]}. Names: beta, k<i>, 2D, 2Q, D, Q, drift[<term>], diffusion[<term>], "
-                          "impact_stop.<param>. All points share one grid (automatic axes: the "
+                          "<effect>.<param> (coulomb_friction.mu = -drift[sign(y)], impact_stop.gap, ...) "
+                          "or an effect's parameter alone (mu). All points share one grid (automatic axes: the "
                           "envelope of all points' ranges) and one symbolic factorisation; points run "
                           "in parallel (--threads).", "", true},
       {"sweep_table", "path", "CSV of the sweep, one row per point.", "<output stem>.sweep.csv"},

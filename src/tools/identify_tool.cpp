@@ -11,9 +11,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "vehs/core/record_phases.hpp"
 #include "vehs/core/error.hpp"
-#include "vehs/core/parameters.hpp"
 #include "tools/data_checks.hpp"
 #include "tools/identify_file.hpp"
 #include "tools/likelihood_config.hpp"
@@ -22,6 +20,7 @@
 #include "tools/identify_figures.hpp"
 #include "tools/measurement_config.hpp"
 #include "tools/terminal_progress.hpp"
+#include "tools/parameter_table.hpp"
 #include "tools/fit_sections.hpp"
 #include "tools/budget.hpp"
 #include "tools/study_output.hpp"
@@ -577,13 +576,7 @@ int run_identify(Config& c, const AppOptions& app) {
   if (!app.quiet) {
     std::printf("estimator: %s (stride %d; %s)\n", enum_to_string(kEstimatorNames, r.model.fit->estimator).c_str(),
                 r.model.fit->stride, r.report.estimator.reason.c_str());
-    std::printf("%-14s %14s %12s\n", "parameter", "value", "stderr");
-    const std::size_t phases = record_phases_of(r.model).size();
-    for (const auto& p : physical_parameters(r.model))
-      if (phases > 0 && p.name == "harmonic_forcing.phase")  // the file's value is a placeholder
-        std::printf("%-14s %14s %12s\n", p.name.c_str(), "per record", ("(" + std::to_string(phases) + " in likelihood.record_phases)").c_str());
-      else
-        std::printf("%-14s %14s %12s\n", p.name.c_str(), g(p.value).c_str(), p.stderr_ ? g(*p.stderr_, 3).c_str() : "");
+    std::fputs(parameter_table(r.model, units).c_str(), stdout);
     print_refinement(refinement);
     std::printf("%zu rows in %.2f s; model written to %s\n", r.report.fit.rows, r.report.fit.seconds, output.c_str());
     if (!figure.empty()) std::printf("figure: %s\n", figure.c_str());

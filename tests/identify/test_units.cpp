@@ -100,3 +100,15 @@ TEST_CASE("a dynamic effect's parameters carry their units: impact stops in m an
   CHECK(std::abs(em.param("k_stop") * T * T - ea.param("k_stop")) < 1e-4 * ea.stderr_.at("k_stop"));
   for (const auto& [n, se] : m.drift_stderr) CHECK(std::isfinite(se));
 }
+
+namespace vehs::identify::detail {
+std::string noise_share_text(double share);  // src/identify/estimator_choice.hpp (internal)
+}
+
+TEST_CASE("a saturated sensor-noise reading is not stated as a share", "[identify][noise_share]") {
+  using vehs::identify::detail::noise_share_text;
+  // 6 (rho_2k - rho_3k) >= 1 is clamped to 1: pure white noise, never a record with motion
+  CHECK(noise_share_text(1.0).find("100 %") == std::string::npos);
+  CHECK(noise_share_text(1.0).find("not resolved") != std::string::npos);
+  CHECK(noise_share_text(0.12).find("about 12 %") != std::string::npos);
+}
