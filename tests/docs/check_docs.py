@@ -9,8 +9,8 @@
       output of `EXECUTABLE --help-markdown` (scripts/docs.sh --reference rewrites it).
   check_docs.py links SOURCE_DIR
       Relative links of README.md, docs/*.md, examples/ and data/**/README.md point to files that
-      exist; no file refers to contracts.md (its content is in docs/); every identifier the README's
-      "Using the library" table names is declared in include/vehs/.
+      exist; no file refers to contracts.md (its content is in docs/); every identifier that
+      docs/library.md's "Using the library" table names is declared in include/vehs/.
 Exit status 0 when everything matches, else 1 with one line per problem.
 """
 import os
@@ -140,12 +140,12 @@ def check_links(source):
 
 
 def check_readme_names(source):
-    """Identifiers in the third column of the README's "Using the library" table exist in include/."""
-    with open(os.path.join(source, "README.md"), encoding="utf-8") as f:
+    """Identifiers in the third column of docs/library.md's "Using the library" table exist in include/."""
+    with open(os.path.join(source, "docs", "library.md"), encoding="utf-8") as f:
         readme = f.read()
     start = readme.find("## Using the library")
     if start < 0:
-        return ["README.md: no section '## Using the library'"]
+        return ["docs/library.md: no section '## Using the library'"]
     section = readme[start:readme.find("\n## ", start + 1)]
     headers = ""
     for root, _, names in os.walk(os.path.join(source, "include", "vehs")):
@@ -160,7 +160,7 @@ def check_readme_names(source):
         for name in re.findall(r"`([A-Za-z_][A-Za-z0-9_:]*)`", cells[3]):
             short = name.split("::")[-1]
             if not re.search(r"\b" + re.escape(short) + r"\b", headers):
-                problems.append(f"README.md: 'Using the library' names '{name}', which include/vehs/ does not declare")
+                problems.append(f"docs/library.md: 'Using the library' names '{name}', which include/vehs/ does not declare")
     return problems
 
 
