@@ -106,7 +106,9 @@ LINK = re.compile(r"\]\(([^)#\s]+)(#[^)\s]*)?\)")
 def markdown_files(source):
     files = [os.path.join(source, "README.md")]
     for folder in ("docs", "examples", "data"):
-        for root, _, names in os.walk(os.path.join(source, folder)):
+        for root, dirs, names in os.walk(os.path.join(source, folder)):
+            if folder == "docs" and "site" in dirs:
+                dirs.remove("site")  # the site's own pages link within the built site (scripts/docs.sh)
             files += [os.path.join(root, n) for n in names if n.endswith(".md")]
     return files
 
