@@ -22,6 +22,8 @@ packages=(
   # links libblas.so.3, which this package provides with priority over the reference BLAS;
   # the serial variant, because vehs parallelises over sweep points itself)
   libopenblas0-serial
+  # the C++ API pages of the documentation site (scripts/docs.sh)
+  doxygen
 )
 # bench/fuzz/run.sh: clang with libFuzzer and its OpenMP runtime (only when fuzzing)
 if [ -n "${VEHS_WITH_FUZZ:-}" ]; then packages+=(clang libclang-rt-14-dev libomp-14-dev); fi

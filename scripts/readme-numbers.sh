@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# README's numbers and the commands beside them (issue 15: "README's numbers reproduced by the
+# The numbers of README and docs/ and the commands beside them (issue 15: "README's numbers reproduced by the
 # commands next to them, or stated as machine-dependent").
 #   scripts/readme-numbers.sh          list every figure of README's tables with its command and
 #                                      class, then re-run the cheap ones and compare
@@ -14,41 +14,45 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${VEHS_BUILD_DIR:-$root/build}"
 
-python3 - "$root/README.md" <<'EOF'
-import re, sys
-lines = open(sys.argv[1], encoding="utf-8").read().split("\n")
-doc_tables = {"tool", "effect", "area (target)"}  # documentation, not figures
+python3 - "$root/README.md" "$root"/docs/*.md "$root"/docs/studies/*.md <<'EOF'
+import os, re, sys
+doc_tables = {"tool", "effect", "area (target)", "file", "option", "budget", "key"}  # documentation, not figures
 cheap = ('test_sim "[convergence]"', "build/tests/test_fpk`", 'test_sim "[simd]"')
 def cells(row):
     return [c.strip() for c in row.strip().strip("|").split("|")]
-i, last_cmd = 0, ""
-print("README figures (line: what = measured [target] <- command; class)")
-while i < len(lines):
-    if lines[i].startswith("|") and i + 1 < len(lines) and re.match(r"^\|\s*-{3}", lines[i + 1]):
-        head = [c.lower() for c in cells(lines[i])]
-        i += 2
-        if head[0] in doc_tables:
-            while i < len(lines) and lines[i].startswith("|"): i += 1
-            continue
-        rc = head.index("reproduce") if "reproduce" in head else -1
-        tc = head.index("target") if "target" in head else -1
-        while i < len(lines) and lines[i].startswith("|"):
-            c = cells(lines[i])
-            what, measured = c[0], " / ".join(c[1:rc if rc > 0 else (tc if tc > 0 else len(c))])
-            target = c[tc] if tc >= 0 and tc < len(c) else ""
-            cmd = c[rc] if 0 <= rc < len(c) else ""
-            if cmd.startswith("same"): cmd = last_cmd + cmd[4:]
-            if cmd: last_cmd = cmd.split(" (")[0]
-            if not cmd: cls = "no command"
-            elif any(k in cmd for k in cheap): cls = "re-run"
-            elif re.search(r"M/s|\d s\b|×|wall|CPU time|per core|\bcores\b", what + " " + measured): cls = "speed"
-            else: cls = "study"
-            short = lambda s, n: s if len(s) <= n else s[: n - 3] + "..."
-            print(f"  {i + 1}: {short(what, 70)} = {short(measured, 60)}" + (f" [{short(target, 20)}]" if target else "")
-                  + f" <- {short(cmd, 70) or '-'}; {cls}")
-            i += 1
-        continue
-    i += 1
+print("Figures of README and docs/ (file:line: what = measured [target] <- command; class)")
+def scan(path, name):
+  lines = open(path, encoding="utf-8").read().split("\n")
+  i, last_cmd = 0, ""
+  while i < len(lines):
+      if lines[i].startswith("|") and i + 1 < len(lines) and re.match(r"^\|\s*-{3}", lines[i + 1]):
+          head = [c.lower() for c in cells(lines[i])]
+          i += 2
+          if head[0] in doc_tables:
+              while i < len(lines) and lines[i].startswith("|"): i += 1
+              continue
+          rc = head.index("reproduce") if "reproduce" in head else -1
+          tc = head.index("target") if "target" in head else -1
+          while i < len(lines) and lines[i].startswith("|"):
+              c = cells(lines[i])
+              what, measured = c[0], " / ".join(c[1:rc if rc > 0 else (tc if tc > 0 else len(c))])
+              target = c[tc] if tc >= 0 and tc < len(c) else ""
+              cmd = c[rc] if 0 <= rc < len(c) else ""
+              if cmd.startswith("same"): cmd = last_cmd + cmd[4:]
+              if cmd: last_cmd = cmd.split(" (")[0]
+              if not cmd: cls = "no command"
+              elif any(k in cmd for k in cheap): cls = "re-run"
+              elif re.search(r"M/s|\d s\b|×|wall|CPU time|per core|\bcores\b", what + " " + measured): cls = "speed"
+              else: cls = "study"
+              short = lambda s, n: s if len(s) <= n else s[: n - 3] + "..."
+              print(f"  {name}:{i + 1}: {short(what, 70)} = {short(measured, 60)}" + (f" [{short(target, 20)}]" if target else "")
+                    + f" <- {short(cmd, 70) or '-'}; {cls}")
+              i += 1
+          continue
+      i += 1
+for path in sys.argv[1:]:
+  if os.path.exists(path):
+    scan(path, os.path.relpath(path, os.path.dirname(os.path.abspath(sys.argv[1]))))
 EOF
 [ "${1:-}" = "--list" ] && exit 0
 

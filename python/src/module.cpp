@@ -9,6 +9,7 @@
 
 NB_MODULE(_vehs, m) {
   namespace nb = nanobind;
+  m.attr("__version__") = VEHS_VERSION;  // project(VERSION) of CMakeLists.txt, as the tools' --version
   nb::exception<vehs::Error>(m, "Error", PyExc_ValueError);
   m.def("set_threads", &vehs::set_threads, nb::arg("threads"), "Threads of the library's parallel loops (0: default).");
   m.def("max_threads", &vehs::max_threads);

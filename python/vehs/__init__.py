@@ -5,7 +5,7 @@ around the executables. Keyword options are the keys of the matching tool's JSON
 (``simulate-vehs --help`` and friends), checked by the same code, so errors are the CLI's one-line
 messages (raised as :class:`vehs.Error`, a ``ValueError``).
 """
-from ._vehs import Error, max_threads, set_threads
+from ._vehs import Error, __version__, max_threads, set_threads
 from .model import Model
 from .records import Records, as_records, read
 from .compute import FitOptions, diagnose, identify, identify_study, monte_carlo, simulate, stationary, sweep, Diagnosis, Stationary
@@ -16,4 +16,3 @@ __all__ = [
     "Error", "FitOptions", "Model", "Records", "as_records", "read", "simulate", "monte_carlo", "identify", "identify_study", "stationary",
     "sweep", "power", "diagnose", "Diagnosis", "Stationary", "set_threads", "max_threads", "tqdm_progress",
 ]
-__version__ = "0.1.0"

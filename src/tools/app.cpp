@@ -47,6 +47,14 @@ int run_app(int argc, char** argv, const ConfigSchema& schema,
           "INT in [0, 1024]"));
   app.add_flag("--quiet,-q", options.quiet, "no progress reports on stderr");
   app.set_version_flag("--version", schema.tool + " (" + library_version() + ")");
+  app.add_flag_callback(
+         "--help-markdown",
+         [&schema] {
+           std::cout << schema.markdown_text();
+           throw CLI::Success();
+         },
+         "print the config keys as Markdown (docs/reference/) and exit")
+      ->trigger_on_parse();
   // a boolean key fail_on_<x> is also the flag --fail-on-<x>, and the key force the flag --force
   std::vector<std::string> flag_keys;
   for (const auto& k : schema.keys)

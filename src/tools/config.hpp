@@ -26,6 +26,9 @@ struct ConfigSchema {
 
   /// The full key table as printed by --help.
   std::string help_text() const;
+  /// The same key table as Markdown (--help-markdown): the summary, a table of key, type,
+  /// default and the first sentence of the help, then every key with its full help.
+  std::string markdown_text() const;
   const KeySpec* find(const std::string& key) const;
 };
 

@@ -2,14 +2,15 @@
 """Keeps docs/ from drifting away from the code (a CTest test, tests/CMakeLists.txt).
 
   check_docs.py config SOURCE_DIR TOOL=EXECUTABLE...
-      Every key that `EXECUTABLE --help` lists must appear in docs/config.md, in the section
-      "## TOOL", as a line  * `KEY` (SPEC)  with SPEC exactly the text in parentheses that --help
-      prints after the key (type, and default / optional / required); and every such line of the
-      section must be a key of --help. The description below that line is free text.
+      Every key that `EXECUTABLE --help` lists must appear in docs/reference/TOOL-keys.md as a
+      line  * `KEY` (SPEC)  with SPEC exactly the text in parentheses that --help prints after the
+      key (type, and default / optional / required); and every such line must be a key of --help;
+      docs/config.md must link to that page. And docs/reference/TOOL-keys.md must be exactly the
+      output of `EXECUTABLE --help-markdown` (scripts/docs.sh --reference rewrites it).
   check_docs.py links SOURCE_DIR
       Relative links of README.md, docs/*.md, examples/ and data/**/README.md point to files that
-      exist; no file refers to contracts.md (its content is in docs/); every identifier the README's
-      "Using the library" table names is declared in include/vehs/.
+      exist; no file refers to contracts.md (its content is in docs/); every identifier that
+      docs/library.md's "Using the library" table names is declared in include/vehs/.
 Exit status 0 when everything matches, else 1 with one line per problem.
 """
 import os
@@ -56,26 +57,46 @@ def doc_sections(path):
     return sections
 
 
+def reference_keys(path):
+    keys = {}
+    with open(path, encoding="utf-8") as f:
+        for number, line in enumerate(f, 1):
+            m = DOC_LINE.match(line.rstrip("\n"))
+            if m:
+                keys[m.group(1)] = (m.group(2), number)
+    return keys
+
+
 def check_config(source, tools):
-    doc = os.path.join(source, "docs", "config.md")
-    sections = doc_sections(doc)
+    with open(os.path.join(source, "docs", "config.md"), encoding="utf-8") as f:
+        config_md = f.read()
     problems = []
     for spec in tools:
         tool, executable = spec.split("=", 1)
         keys = help_keys(executable)
-        documented = sections.get(tool)
-        if documented is None:
-            problems.append(f"docs/config.md: no section '## {tool}'")
+        rel = f"docs/reference/{tool}-keys.md"
+        path = os.path.join(source, rel)
+        if f"(reference/{tool}-keys.md)" not in config_md:
+            problems.append(f"docs/config.md: no link to reference/{tool}-keys.md")
+        if not os.path.exists(path):
+            problems.append(f"{rel} missing: run scripts/docs.sh --reference")
             continue
+        with open(path, encoding="utf-8") as f:
+            checked_in = f.read()
+        generated = subprocess.run([executable, "--help-markdown"], capture_output=True, text=True,
+                                   timeout=60).stdout
+        if checked_in != generated:
+            problems.append(f"{rel} differs from `{tool} --help-markdown`: run scripts/docs.sh --reference")
+        documented = reference_keys(path)
         for key, text in keys.items():
             if key not in documented:
-                problems.append(f"docs/config.md: section {tool} lacks key '{key}': add the line  * `{key}` ({text})")
+                problems.append(f"{rel} lacks key '{key}' of --help ({text})")
             elif documented[key][0] != text:
-                problems.append(f"docs/config.md:{documented[key][1]}: {tool} '{key}' is documented as "
+                problems.append(f"{rel}:{documented[key][1]}: {tool} '{key}' is documented as "
                                 f"({documented[key][0]}) but --help says ({text})")
         for key, (_, number) in documented.items():
             if key not in keys:
-                problems.append(f"docs/config.md:{number}: {tool} has no key '{key}' (not in --help)")
+                problems.append(f"{rel}:{number}: {tool} has no key '{key}' (not in --help)")
     return problems
 
 
@@ -85,7 +106,9 @@ LINK = re.compile(r"\]\(([^)#\s]+)(#[^)\s]*)?\)")
 def markdown_files(source):
     files = [os.path.join(source, "README.md")]
     for folder in ("docs", "examples", "data"):
-        for root, _, names in os.walk(os.path.join(source, folder)):
+        for root, dirs, names in os.walk(os.path.join(source, folder)):
+            if folder == "docs" and "site" in dirs:
+                dirs.remove("site")  # the site's own pages link within the built site (scripts/docs.sh)
             files += [os.path.join(root, n) for n in names if n.endswith(".md")]
     return files
 
@@ -119,12 +142,12 @@ def check_links(source):
 
 
 def check_readme_names(source):
-    """Identifiers in the third column of the README's "Using the library" table exist in include/."""
-    with open(os.path.join(source, "README.md"), encoding="utf-8") as f:
+    """Identifiers in the third column of docs/library.md's "Using the library" table exist in include/."""
+    with open(os.path.join(source, "docs", "library.md"), encoding="utf-8") as f:
         readme = f.read()
     start = readme.find("## Using the library")
     if start < 0:
-        return ["README.md: no section '## Using the library'"]
+        return ["docs/library.md: no section '## Using the library'"]
     section = readme[start:readme.find("\n## ", start + 1)]
     headers = ""
     for root, _, names in os.walk(os.path.join(source, "include", "vehs")):
@@ -139,7 +162,7 @@ def check_readme_names(source):
         for name in re.findall(r"`([A-Za-z_][A-Za-z0-9_:]*)`", cells[3]):
             short = name.split("::")[-1]
             if not re.search(r"\b" + re.escape(short) + r"\b", headers):
-                problems.append(f"README.md: 'Using the library' names '{name}', which include/vehs/ does not declare")
+                problems.append(f"docs/library.md: 'Using the library' names '{name}', which include/vehs/ does not declare")
     return problems
 
 
