@@ -123,6 +123,7 @@ std::string coefficient_unit(const Term& t, bool diffusion, const nlohmann::json
       return "(" + power_unit(a, b, units) + ")/" + (in.find('/') != std::string::npos ? "(" + in + ")" : in);
     }
     case TermKind::SignY: break;
+    case TermKind::User: break;  // the expression's value read as dimensionless (as scaling.hpp does)
   }
   return power_unit(a, b, units);
 }
