@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "fit/driven_record.hpp"
 #include "progress_checks.hpp"
 #include "tool_runs.hpp"
 #include "vehs/fit/fit.hpp"
@@ -31,29 +32,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 /// A driven linear oscillator sampled coarsely (ω·dt 0.5: the sampling cannot vouch for the moment
 /// fit, the likelihood refines it from every start and selects), sensor noise 0.01, an AR(1) input
 /// held over each interval.
-vehs::Dataset driven(std::size_t n, std::uint64_t seed) {
-  const vehs::Model truth =
-      vehs::model_from_json(nlohmann::json::parse(R"({"drift": {"x": -1.0, "y": -0.2, "u": 0.5}, "diffusion": {"1": 0.02}})"),
-                            "truth");
-  std::vector<double> u(n);
-  std::uint64_t s = seed * 2654435761u + 1;
-  double prev = 0.0;
-  for (double& v : u) {
-    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-    v = prev = 0.5 * prev + 2.0 * (double(s >> 11) / double(1ULL << 53) - 0.5);
-  }
-  vehs::sim::SimulationOptions o;
-  o.dt = 0.5;
-  o.substeps = 40;
-  o.samples = n;
-  o.records = 1;
-  o.seed = seed;
-  o.scheme = vehs::sim::Scheme::Taylor15;
-  o.sensor_noise = 0.01;
-  o.record_y = false;
-  o.drive = u;
-  return vehs::sim::simulate(truth, o);
-}
+vehs::Dataset driven(std::size_t n, std::uint64_t seed) { return fit_test::driven(0.5, n, seed); }
 
 }  // namespace
 
