@@ -18,7 +18,6 @@
 
 namespace {
 
-vehs::Model model(const char* json) { return vehs::model_from_json(nlohmann::json::parse(json), "test model"); }
 
 vehs::Dataset driven(double dt, std::size_t n, std::uint64_t seed) { return fit_test::driven(dt, n, seed); }
 
