@@ -9,6 +9,7 @@
 
 #include "../identify/identify_fixtures.hpp"
 #include "tools/parameter_table.hpp"
+#include "tool_runs.hpp"
 #include "vehs/io/model_file.hpp"
 
 namespace fs = std::filesystem;
@@ -17,12 +18,7 @@ namespace {
 
 const fs::path kBinary = VEHS_BINARY_DIR;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using vehs_tool_test::slurp;
 
 fs::path fresh_dir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / name;

@@ -11,6 +11,7 @@
 
 #include "../identify/identify_fixtures.hpp"
 #include "io/logger_files.hpp"
+#include "tool_runs.hpp"
 #include "vehs/io/model_file.hpp"
 
 namespace fs = std::filesystem;
@@ -19,12 +20,7 @@ namespace {
 
 const fs::path kBinary = VEHS_BINARY_DIR;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using vehs_tool_test::slurp;
 
 }  // namespace
 

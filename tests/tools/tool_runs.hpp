@@ -2,6 +2,7 @@
 // The tool tests' shared pieces: a work folder in the build tree, and identify-vehs run in-process
 // as a user runs it (argv, its stderr captured, stdout kept off the test's output).
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -16,6 +17,14 @@ inline std::filesystem::path work_dir(const std::string& name) {
   const std::filesystem::path p = std::filesystem::path(VEHS_BINARY_DIR) / name;
   std::filesystem::create_directories(p);
   return p;
+}
+
+/// The whole text of a file ("" when it cannot be read).
+inline std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 /// identify-vehs with `args`; its exit status, stderr into `err` (when given).
