@@ -114,8 +114,11 @@ std::string first_sentence(const std::string& help) {
   }
   if (sentence.size() <= 120) return sentence;
   for (std::size_t i = 20; i < sentence.size(); ++i)
-    if (depth[i] == 0 && (sentence[i] == ':' || sentence[i] == ';' || sentence[i] == ','))
-      return sentence.substr(0, i) + " ...";
+    if (depth[i] == 0 && (sentence[i] == ':' || sentence[i] == ';' || sentence[i] == ',')) {
+      sentence.resize(i);
+      sentence.append(" ...");
+      break;
+    }
   return sentence;
 }
 
