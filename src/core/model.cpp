@@ -5,6 +5,9 @@
 #include <sstream>
 
 #include "vehs/core/error.hpp"
+#include "vehs/effects/from_model.hpp"
+#include "vehs/effects/harmonic_forcing.hpp"
+#include "vehs/effects/impact_stop.hpp"
 
 namespace vehs {
 
@@ -29,16 +32,8 @@ const std::vector<EffectSpec>& effect_catalogue() {
        "amplitude-dependent damping −c_x2y·x²·y − c_y3·y³", true,
        {{"c_x2y", "coefficient of x²·y", kFree, false, 0.0},
         {"c_y3", "coefficient of y³", kFree, false, 0.0}}},
-      {EffectId::ImpactStop, "impact_stop",
-       "end stops: force −k_stop·(x − gap) for x > gap and −k_stop·(x + gap_neg) for x < −gap_neg",
-       false,
-       {{"k_stop", "stiffness of the stops", 0.0, true, std::nullopt},
-        {"gap", "distance from x = 0 to the positive stop", 0.0, true, std::nullopt},
-        {"gap_neg", "distance to the negative stop (default: gap)", 0.0, true, std::nullopt}}},
-      {EffectId::HarmonicForcing, "harmonic_forcing", "force amplitude·cos(omega·t + phase)", false,
-       {{"amplitude", "forcing amplitude", 0.0, false, std::nullopt},
-        {"omega", "angular frequency", 0.0, true, std::nullopt},
-        {"phase", "phase at t = 0 (radians)", kFree, false, 0.0}}},
+      effects::spec_of<effects::ImpactStop>(EffectId::ImpactStop),
+      effects::spec_of<effects::HarmonicForcing>(EffectId::HarmonicForcing),
       {EffectId::ElectromechanicalCoupling, "electromechanical_coupling",
        "hidden state dv = (y − lambda·v) dt feeding back the force −coupling·v "
        "(coupling = θ·κ of dv = (κ·y − λ·v) dt, force −θ·v)",

@@ -1,6 +1,8 @@
 #include "vehs/core/record_phases.hpp"
 
 #include "vehs/core/error.hpp"
+#include "vehs/effects/from_model.hpp"
+#include "vehs/effects/harmonic_forcing.hpp"
 
 namespace vehs {
 
@@ -33,11 +35,9 @@ std::vector<double> forcing_time_origins(const Model& model, const Dataset& data
   if (all.empty()) return origin;
   if (exact && all.size() != data.records.size()) throw count_mismatch(where, all.size(), data.records.size());
   const std::vector<double> phases = leading_record_phases(model, data.records.size(), where);
-  const Effect& h = *model.find_effect(EffectId::HarmonicForcing);
-  const auto ph = h.params.find("phase"), om = h.params.find("omega");
-  const double omega = om == h.params.end() ? 0.0 : om->second, shared = ph == h.params.end() ? 0.0 : ph->second;
-  if (!(omega != 0.0)) throw Error(where + ": harmonic_forcing with one phase per record needs omega != 0");
-  for (std::size_t r = 0; r < origin.size(); ++r) origin[r] += (phases[r] - shared) / omega;
+  const auto forcing = effects::from_effect<effects::HarmonicForcing>(*model.find_effect(EffectId::HarmonicForcing));
+  if (!(forcing.omega != 0.0)) throw Error(where + ": harmonic_forcing with one phase per record needs omega != 0");
+  for (std::size_t r = 0; r < origin.size(); ++r) origin[r] += forcing.time_shift_to(phases[r]);
   return origin;
 }
 

@@ -4,6 +4,9 @@
 #include <cmath>
 
 #include "vehs/core/error.hpp"
+#include "vehs/effects/from_model.hpp"
+#include "vehs/effects/harmonic_forcing.hpp"
+#include "vehs/effects/impact_stop.hpp"
 
 namespace vehs {
 
@@ -150,11 +153,8 @@ double effect_parameter_scale(EffectId effect, std::string_view p, const Scales&
       if (p == "c_x2y") return drift_coefficient_scale(Term::monomial(2, 1), s);
       if (p == "c_y3") return drift_coefficient_scale(Term::monomial(0, 3), s);
       break;
-    case EffectId::ImpactStop: return p == "k_stop" ? 1.0 / (T * T) : L;
-    case EffectId::HarmonicForcing:
-      if (p == "amplitude") return acceleration(s);
-      if (p == "omega") return 1.0 / T;
-      return 1.0;  // phase
+    case EffectId::ImpactStop: return effects::unit_scale_of<effects::ImpactStop>(p, L, T);
+    case EffectId::HarmonicForcing: return effects::unit_scale_of<effects::HarmonicForcing>(p, L, T);
     case EffectId::ElectromechanicalCoupling: return p == "lambda" ? 1.0 / T : 1.0 / (T * T);
     case EffectId::ColoredNoise: return p == "tau" ? T : variance_rate(s);
     case EffectId::VelocityDependentNoise: return diffusion_coefficient_scale(Term::monomial(0, 2), s);

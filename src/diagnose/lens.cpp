@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <sstream>
 
+#include "vehs/effects/from_model.hpp"
+
 namespace vehs::diagnose {
 
 CompiledTerms::CompiledTerms(const TermList& terms) {
@@ -92,20 +94,12 @@ double CompiledTerms::d_dx(double x, double y) const {
 
 ExplicitForces::ExplicitForces(const Model& m) {
   for (const auto& e : m.effects) {
-    auto p = [&](const char* k, double fallback) {
-      auto it = e.params.find(k);
-      return it == e.params.end() ? fallback : it->second;
-    };
     if (e.id == EffectId::ImpactStop) {
-      stop = true;
-      k_stop = p("k_stop", 0.0);
-      gap = p("gap", 0.0);
-      gap_neg = p("gap_neg", gap);
+      has_stop = true;
+      stop = effects::from_effect<effects::ImpactStop>(e);
     } else if (e.id == EffectId::HarmonicForcing) {
       harmonic = true;
-      amplitude = p("amplitude", 0.0);
-      omega = p("omega", 0.0);
-      phase = p("phase", 0.0);
+      forcing = effects::from_effect<effects::HarmonicForcing>(e);
     }
   }
 }

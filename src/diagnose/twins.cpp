@@ -61,11 +61,11 @@ int continuous_twin_substeps(const Model& model, double dt, double x_lo, double 
   for (int i = 0; i < nx; ++i)
     for (int j = 0; j < nv; ++j) {
       const double x = x_lo + (x_hi - x_lo) * i / (nx - 1), v = v_lo + (v_hi - v_lo) * j / (nv - 1);
-      const double a = std::abs(drift.d_dx(x, v)) + (forces.stop ? std::abs(forces.k_stop) : 0.0);
+      const double a = std::abs(drift.d_dx(x, v)) + (forces.has_stop ? std::abs(forces.stop.stiffness()) : 0.0);
       const double b = std::abs(drift.d_dy(x, v, 0.0));
       rho = std::max(rho, 0.5 * (b + std::sqrt(b * b + 4.0 * a)));
     }
-  if (forces.harmonic) rho = std::max(rho, std::abs(forces.omega));
+  if (forces.harmonic) rho = std::max(rho, forces.forcing.rate());
   for (const auto& e : model.effects) {  // the hidden states' own rates
     if (e.id == EffectId::ElectromechanicalCoupling)
       rho = std::max({rho, std::abs(e.param("lambda")), std::sqrt(std::abs(e.param("coupling")))});

@@ -7,6 +7,7 @@
 #include "vehs/conventions.hpp"
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/effects/from_model.hpp"
 #include "vehs/fpk/solve.hpp"
 
 namespace vehs::fpk {
@@ -157,14 +158,15 @@ double root_bound(const Model& m) {
   };
   double bound = cauchy(a);
   if (const Effect* e = m.find_effect(EffectId::ImpactStop)) {
-    const double k = e->param("k_stop");
-    for (double gap : {e->param("gap"), e->params.count("gap_neg") ? e->param("gap_neg") : e->param("gap")}) {
+    // beyond a stop U' gains an affine part −force(x) = k·x ∓ k·gap (either sign, either gap)
+    const auto stop = effects::from_effect<effects::ImpactStop>(*e);
+    for (const auto& piece : stop.outer_pieces()) {
       auto b = a;
       if (b.size() < 2) b.resize(2, 0.0);
-      b[1] += k;
-      b[0] -= k * gap;
-      bound = std::max({bound, cauchy(b), gap});
-      b[0] += 2 * k * gap;
+      b[1] -= piece.slope;
+      b[0] -= std::abs(piece.offset);
+      bound = std::max({bound, cauchy(b), std::abs(piece.offset / piece.slope)});
+      b[0] += 2 * std::abs(piece.offset);
       bound = std::max(bound, cauchy(b));
     }
   }

@@ -7,6 +7,7 @@
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/diffusion_domain.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/effects/from_model.hpp"
 #include "vehs/fpk/fpk_model.hpp"
 
 namespace vehs::fpk {
@@ -32,9 +33,7 @@ FpkModel::FpkModel(const Model& model, const std::string& where) : model_(model)
     switch (e.id) {
       case EffectId::ImpactStop:
         has_stop_ = true;
-        k_stop_ = e.param("k_stop");
-        gap_ = e.param("gap");
-        gap_neg_ = e.params.count("gap_neg") ? e.param("gap_neg") : gap_;
+        stop_ = effects::from_effect<effects::ImpactStop>(e);
         break;
       case EffectId::HarmonicForcing:
         throw Error(where_ + ": effect 'harmonic_forcing' makes the process time-dependent "
@@ -75,7 +74,7 @@ FpkModel::FpkModel(const Model& model, const std::string& where) : model_(model)
                   " pushes outwards (drift['x^" + std::to_string(degree) +
                   "'] must be negative)");
   } else {
-    const double slope = (degree == 1 ? lead : 0.0) + (has_stop_ ? k_stop_ : 0.0);
+    const double slope = (degree == 1 ? lead : 0.0) + (has_stop_ ? stop_.stiffness() : 0.0);
     if (!(slope > 0.0))
       throw Error(where_ + ": the potential does not confine: the restoring force grows at most "
                            "like " + num(slope) +
@@ -91,10 +90,7 @@ FpkModel::FpkModel(const Model& model, const std::string& where) : model_(model)
 
 double FpkModel::b2(double x, double y) const {
   double v = model_.b2(x, y);
-  if (has_stop_) {
-    if (x > gap_) v -= k_stop_ * (x - gap_);
-    if (x < -gap_neg_) v -= k_stop_ * (x + gap_neg_);
-  }
+  if (has_stop_) v += stop_.force(x);
   return v;
 }
 
@@ -125,10 +121,7 @@ double FpkModel::potential(double x) const {
   for (const auto& tc : model_.drift)
     if (tc.term.kind == TermKind::Monomial && tc.term.py == 0)
       u -= tc.coef * ipow(x, tc.term.px + 1) / (tc.term.px + 1);
-  if (has_stop_) {
-    if (x > gap_) u += 0.5 * k_stop_ * (x - gap_) * (x - gap_);
-    if (x < -gap_neg_) u += 0.5 * k_stop_ * (x + gap_neg_) * (x + gap_neg_);
-  }
+  if (has_stop_) u += stop_.potential(x);
   return u;
 }
 

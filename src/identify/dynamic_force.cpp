@@ -1,7 +1,9 @@
 // The forces of dynamic effects along a record, as identify and diagnose evaluate them.
 #include <cmath>
 
-#include "stop_shape.hpp"
+#include "vehs/effects/from_model.hpp"
+#include "vehs/effects/harmonic_forcing.hpp"
+#include "vehs/effects/impact_stop.hpp"
 #include "vehs/identify/dynamic.hpp"
 
 namespace vehs::identify {
@@ -30,18 +32,13 @@ void dynamic_force(const std::vector<Effect>& effects, const Dataset& data, cons
   for (const auto& e : effects) {
     switch (e.id) {
       case EffectId::HarmonicForcing: {
-        const double A = e.param("amplitude"), w = e.param("omega");
-        const double ph = e.params.count("phase") ? e.param("phase") : 0.0;
-        for (std::size_t i = 0; i < r.size; ++i)
-          out[i] += A * std::cos(w * (r.t0 + static_cast<double>(i) * r.dt) + ph);
+        effects::add_harmonic_forcing_record_force(effects::from_effect<effects::HarmonicForcing>(e), r.t0, r.dt,
+                                                   r.size, out.data());
         break;
       }
       case EffectId::ImpactStop: {
-        const double k = e.param("k_stop"), gp = e.param("gap");
-        const double gn = e.params.count("gap_neg") ? e.param("gap_neg") : gp;
-        v.resize(r.size);
-        detail::stop_shape(x, r.size, gp, gn, tent_k, v.data());
-        for (std::size_t i = 0; i < r.size; ++i) out[i] += k * v[i];
+        effects::add_impact_stop_record_force(effects::from_effect<effects::ImpactStop>(e), x, r.size, tent_k,
+                                              out.data());
         break;
       }
       case EffectId::ElectromechanicalCoupling: {

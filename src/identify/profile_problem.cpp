@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "stop_shape.hpp"
+#include "vehs/effects/impact_stop.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/identify/dynamic.hpp"
 
@@ -71,7 +71,7 @@ void component_columns(const Component& c, const double* theta, const double* x,
     }
     case EffectId::ImpactStop: {
       scratch.resize(n);
-      stop_shape(x, n, theta[0], theta[1], tent_k, scratch.data());
+      effects::impact_stop_record_shape(x, n, theta[0], theta[1], tent_k, scratch.data());
       for (std::size_t i = 0; i < n; ++i) {
         if (c.ncols() == 1) cols[i] = scratch[i];
         else off[i] += g.at("k_stop") * scratch[i];

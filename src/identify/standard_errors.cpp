@@ -44,13 +44,13 @@ VectorXd term_standard_errors(const ScoreSums& sums, const DiffusionSetup& ds, c
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   const MatrixXd omega_all = score_covariance(sums.kron, score_rows(ds, P), q, s2);
   const int p = static_cast<int>(S.size() + T.size());
-  MatrixXd omega(p, p);
+  MatrixXd meat(p, p);
   {
     std::vector<int> rows;
     for (std::size_t i = 0; i < S.size(); ++i) rows.push_back(static_cast<int>(i));
     for (int t : T) rows.push_back(static_cast<int>(S.size()) + t);
     for (int i = 0; i < p; ++i)
-      for (int j = 0; j < p; ++j) omega(i, j) = omega_all(rows[static_cast<std::size_t>(i)], rows[static_cast<std::size_t>(j)]);
+      for (int j = 0; j < p; ++j) meat(i, j) = omega_all(rows[static_cast<std::size_t>(i)], rows[static_cast<std::size_t>(j)]);
   }
   // Jacobian of the stacked estimating equations (drift on S, diffusion on T)
   const int pS = static_cast<int>(S.size());
@@ -72,7 +72,7 @@ VectorXd term_standard_errors(const ScoreSums& sums, const DiffusionSetup& ds, c
   VectorXd se = VectorXd::Constant(std::max(p, 1), kNaN);
   if (p > 0) {
     const MatrixXd Jinv = J.fullPivLu().inverse();
-    const MatrixXd cov = Jinv * omega * Jinv.transpose();
+    const MatrixXd cov = Jinv * meat * Jinv.transpose();
     for (int i = 0; i < p; ++i) se[i] = cov(i, i) > 0 ? std::sqrt(cov(i, i)) : kNaN;
     if (covariance) *covariance = 0.5 * (cov + cov.transpose());
   }

@@ -57,11 +57,11 @@ int automatic_substeps(const Structure& st, const Coefficients<double>& c, const
         a += c.drift[t] * st.drift[t].d_dx(x, y);
         b += c.drift[t] * st.drift[t].d_dy(x, y);
       }
-      if (st.impact) a -= std::abs(c.k_stop);
+      if (st.impact) a -= std::abs(c.stop.stiffness());
       const double r = 0.5 * (std::abs(b) + std::sqrt(b * b + 4.0 * std::abs(a)));
       rho = std::max(rho, r);
     }
-  if (st.harmonic) rho = std::max(rho, std::abs(c.omega));
+  if (st.harmonic) rho = std::max(rho, c.forcing.rate());
   if (st.electro) rho = std::max({rho, std::abs(c.lambda), std::sqrt(std::abs(c.coupling))});
   if (st.colored && c.tau > 0.0) rho = std::max(rho, 1.0 / c.tau);
   const double n = std::ceil(rho * dt / 0.4);

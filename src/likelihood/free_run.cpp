@@ -6,6 +6,9 @@
 #include <Eigen/Core>
 
 #include "vehs/core/error.hpp"
+#include "vehs/effects/from_model.hpp"
+#include "vehs/effects/harmonic_forcing.hpp"
+#include "vehs/effects/impact_stop.hpp"
 #include "vehs/likelihood/detail/input_path.hpp"
 #include "vehs/likelihood/ode.hpp"
 
@@ -13,15 +16,12 @@ namespace vehs::likelihood {
 
 namespace {
 
-double param_or(const Effect& e, const char* key, double fallback) {
-  auto it = e.params.find(key);
-  return it == e.params.end() ? fallback : it->second;
-}
-
 /// The noise-free vector field of the state (x, y, v, η) at a point.
 struct VectorField {
   const Model& m;
-  double k_stop = 0, gap = 0, gap_neg = 0, amplitude = 0, omega = 0, phase = 0, lambda = 0,
+  effects::ImpactStop<double> stop;
+  effects::HarmonicForcing<double> forcing;
+  double lambda = 0,
          coupling = 0, tau = 1;
   bool impact = false, harmonic = false, electro = false, colored = false;
   double t0 = 0, inv_dt = 1;
@@ -32,15 +32,12 @@ struct VectorField {
       switch (e.id) {
         case EffectId::ImpactStop:
           impact = true;
-          k_stop = e.param("k_stop");
-          gap = e.param("gap");
-          gap_neg = param_or(e, "gap_neg", gap);
+          stop = effects::from_effect<effects::ImpactStop>(e);
           break;
         case EffectId::HarmonicForcing:
           harmonic = true;
-          amplitude = e.param("amplitude");
-          omega = e.param("omega");
-          phase = o.phase ? *o.phase : param_or(e, "phase", 0.0);
+          forcing = effects::from_effect<effects::HarmonicForcing>(e);
+          if (o.phase) forcing.phase = *o.phase;
           break;
         case EffectId::ElectromechanicalCoupling:
           electro = true;
@@ -57,8 +54,8 @@ struct VectorField {
   }
   bool operator()(double t, const Eigen::Vector4d& s, Eigen::Vector4d& ds) const {
     double b = m.b2(s[0], s[1], detail::eval_cubic(u, (t - t0) * inv_dt));
-    if (impact) b += -k_stop * std::max(s[0] - gap, 0.0) + k_stop * std::max(-s[0] - gap_neg, 0.0);
-    if (harmonic) b += amplitude * std::cos(omega * t + phase);
+    if (impact) b += stop.force(s[0]);
+    if (harmonic) b += forcing.force(t);
     if (electro) b -= coupling * s[2];
     if (colored) b += s[3];
     ds[0] = s[1];

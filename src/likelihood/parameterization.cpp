@@ -156,7 +156,7 @@ Parameterization::Parameterization(const ObservedModel& start, const FitChoice& 
     for (std::size_t r = 0; r < records; ++r) {
       params_.push_back({"phase[" + std::to_string(r) + "]", ParameterKind::RecordPhase, int(r),
                          EffectId::HarmonicForcing, "phase", false});
-      initial_.push_back(start_phases_.empty() ? base_.phase : start_phases_[r]);
+      initial_.push_back(start_phases_.empty() ? base_.forcing.phase : start_phases_[r]);
     }
   }
 }

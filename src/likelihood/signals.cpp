@@ -16,7 +16,8 @@ std::vector<double> random_phase_multisine(std::size_t samples, double dt, int l
   std::vector<double> u(samples, 0.0);
   for (int j = 1; j <= lines; ++j) {
     const double w = dw * j, p = phase(g);
-    for (std::size_t i = 0; i < samples; ++i) u[i] += amplitude * std::cos(w * dt * double(i) + p);
+    for (std::size_t i = 0; i < samples; ++i)
+      u[i] += amplitude * std::cos(w * dt * double(i) + p);  // physics-ok: a test signal, not an effect
   }
   return u;
 }

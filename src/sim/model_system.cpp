@@ -4,6 +4,7 @@
 #include <map>
 
 #include "vehs/core/error.hpp"
+#include "vehs/effects/from_model.hpp"
 
 namespace vehs::sim::detail {
 
@@ -127,15 +128,11 @@ void compile_effects(const Model& m, const std::string& where, CompiledModel& cm
     switch (e.id) {
       case EffectId::ImpactStop:
         cm.impact = true;
-        cm.k_stop = e.param("k_stop");
-        cm.gap = e.param("gap");
-        cm.gap_neg = e.params.count("gap_neg") ? e.param("gap_neg") : cm.gap;
+        cm.stop = effects::from_effect<effects::ImpactStop>(e);
         break;
       case EffectId::HarmonicForcing:
         cm.harmonic = true;
-        cm.amplitude = e.param("amplitude");
-        cm.omega = e.param("omega");
-        cm.phase = e.params.count("phase") ? e.param("phase") : 0.0;
+        cm.forcing = effects::from_effect<effects::HarmonicForcing>(e);
         break;
       case EffectId::ElectromechanicalCoupling:
         cm.electro = true;

@@ -140,7 +140,7 @@ void check_simulation(const Model& model, const SimulationOptions& o, const std:
     auto c = f.coefficients();
     if (cm.impact) {
       if (c.size() < 2) c.resize(2, 0.0);
-      c[1] -= cm.k_stop;
+      c[1] -= cm.stop.stiffness();
     }
     const XPolynomial eff = XPolynomial::from_coefficients(c);
     const int d = eff.degree();

@@ -100,11 +100,11 @@ ReadOptions read_options(const Config& c, bool need_u, bool read_present_u) {
     r.jitter_tolerance = s.positive_or("jitter_tolerance", r.jitter_tolerance);
     if (!(r.jitter_tolerance < 0.5)) s.fail("jitter_tolerance", "must be < 0.5");
     r.jitter_warning = s.non_negative_or("jitter_warning", r.jitter_warning);
-    const std::string gap = s.string_or("on_gap", "split");
-    if (gap == "fail")
+    const std::string on_gap = s.string_or("on_gap", "split");
+    if (on_gap == "fail")
       r.on_gap = GapPolicy::Fail;
-    else if (gap != "split")
-      s.fail("on_gap", "must be \"split\" or \"fail\" (got \"" + gap + "\")");
+    else if (on_gap != "split")
+      s.fail("on_gap", "must be \"split\" or \"fail\" (got \"" + on_gap + "\")");
   }
   r.require_u = need_u;
   // an input column present in the files is read when asked for, unless it is another role's column

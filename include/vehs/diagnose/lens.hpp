@@ -25,6 +25,8 @@
 #include <vector>
 
 #include "vehs/core/model.hpp"
+#include "vehs/effects/harmonic_forcing.hpp"
+#include "vehs/effects/impact_stop.hpp"
 
 namespace vehs::diagnose {
 
@@ -56,19 +58,16 @@ class CompiledTerms {
 
 /// Forces of the effects that depend on x or t only.
 struct ExplicitForces {
-  bool stop = false;
-  double k_stop = 0.0, gap = 0.0, gap_neg = 0.0;
+  bool has_stop = false;
+  effects::ImpactStop<double> stop;
   bool harmonic = false;
-  double amplitude = 0.0, omega = 0.0, phase = 0.0;
+  effects::HarmonicForcing<double> forcing;
 
   explicit ExplicitForces(const Model& m = Model{});
   double value(double x, double t) const {
     double f = 0.0;
-    if (stop) {
-      if (x > gap) f -= k_stop * (x - gap);
-      if (x < -gap_neg) f -= k_stop * (x + gap_neg);
-    }
-    if (harmonic) f += amplitude * std::cos(omega * t + phase);
+    if (has_stop) f += stop.force(x);
+    if (harmonic) f += forcing.force(t);
     return f;
   }
 };

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "vehs/core/model.hpp"
+#include "vehs/effects/impact_stop.hpp"
 
 namespace vehs::fpk {
 
@@ -35,7 +36,7 @@ class FpkModel {
  private:
   Model model_;
   std::string where_;
-  double k_stop_ = 0.0, gap_ = 0.0, gap_neg_ = 0.0;
+  effects::ImpactStop<double> stop_;
   bool has_stop_ = false, has_sign_y_ = false;
 };
 

@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "vehs/core/model.hpp"
+#include "vehs/effects/harmonic_forcing.hpp"
+#include "vehs/effects/impact_stop.hpp"
 
 namespace vehs::likelihood::detail {
 
@@ -30,8 +32,8 @@ struct Structure {
 template <class T>
 struct Coefficients {
   std::vector<T> drift, diffusion;
-  T k_stop{}, gap{}, gap_neg{};
-  T amplitude{}, omega{}, phase{};
+  effects::ImpactStop<T> stop;
+  effects::HarmonicForcing<T> forcing;
   T lambda{}, coupling{};
   T tau{}, intensity{};
   T measurement_var{};  ///< measurement_sd²

@@ -10,7 +10,7 @@
 // where f is the drift of the state and G Gᵀ = diag(0, a22(x, y), 0, intensity/τ²). The
 // expectations are exact under the Gaussian (gaussian_expectations.hpp): polynomial terms of
 // any degree (E[x³] = m³ + 3mP_xx: the curvature an EKF drops), sign(y), y·|y| and the end
-// stops' hinges in closed form — so the kinks of friction and stops are averaged over the
+// stops' hinges (vehs/effects/impact_stop.hpp) in closed form — so the kinks of friction and stops are averaged over the
 // state's spread instead of being linearised at the mean. The state is packed as
 // [m_0 … m_{D−1}, P_00, P_01, …, P_0(D−1), P_11, …] (upper triangle by rows).
 #include <cmath>
@@ -105,11 +105,11 @@ class MomentSystem {
       }
     }
     if (st_.impact) {
-      const T mneg = -mx;
-      eb += c_.k_stop * (expect_hinge(mneg, sx, c_.gap_neg) - expect_hinge(mx, sx, c_.gap));
-      gx -= c_.k_stop * (expect_step(mx, sx, c_.gap) + expect_step(mneg, sx, c_.gap_neg));
+      const auto e = c_.stop.expectation(mx, sx);
+      eb += e.force;
+      gx += e.force_dx;
     }
-    if (st_.harmonic) eb += c_.amplitude * cos(c_.omega * t + c_.phase);
+    if (st_.harmonic) eb += c_.forcing.force(t);
     T gv{}, ge{};
     if constexpr (D == 4) {
       if (st_.electro) {

@@ -53,7 +53,7 @@ class Parameterization {
   ObservedModel model_at(const std::vector<double>& theta) const;
   /// The shared phase (or 0) of a record under the start model, for records without local phase.
   double record_phase(std::size_t r) const {
-    return start_phases_.empty() ? base_.phase : start_phases_[r];
+    return start_phases_.empty() ? base_.forcing.phase : start_phases_[r];
   }
 
   /// Coefficients for one record: `shared` = θ[0 … shared()), `phase` = the record's phase
@@ -65,12 +65,8 @@ class Parameterization {
     for (std::size_t j = 0; j < base_.drift.size(); ++j) c.drift[j] = T(base_.drift[j]);
     c.diffusion.resize(base_.diffusion.size());
     for (std::size_t j = 0; j < base_.diffusion.size(); ++j) c.diffusion[j] = T(base_.diffusion[j]);
-    c.k_stop = T(base_.k_stop);
-    c.gap = T(base_.gap);
-    c.gap_neg = T(base_.gap_neg);
-    c.amplitude = T(base_.amplitude);
-    c.omega = T(base_.omega);
-    c.phase = T(base_.phase);
+    lift(base_.stop, c.stop);
+    lift(base_.forcing, c.forcing);
     c.lambda = T(base_.lambda);
     c.coupling = T(base_.coupling);
     c.tau = T(base_.tau);
@@ -81,26 +77,35 @@ class Parameterization {
       const T v = p.log_scale ? T(exp(shared[i])) : shared[i];
       target(p, c) = p.kind == ParameterKind::MeasurementSd ? T(v * v) : v;
     }
-    if (local_phase_) c.phase = *phase;
+    if (local_phase_) c.forcing.phase = *phase;
   }
 
  private:
+  /// An effect's parameters in another scalar type.
+  template <class T, template <class> class E>
+  static void lift(const E<double>& from, E<T>& to) {
+    for (std::size_t i = 0; i < E<T>::params.size(); ++i) to.*E<T>::params[i].member = T(from.*E<double>::params[i].member);
+  }
+  /// The parameter of an effect named `key` (the type's first parameter when none is).
+  template <class T, template <class> class E>
+  static T& member(E<T>& e, const std::string& key) {
+    for (const auto& q : E<T>::params)
+      if (q.name == key) return e.*q.member;
+    return e.*E<T>::params[0].member;
+  }
+
   template <class T>
   static T& target(const ParameterInfo& p, Coefficients<T>& c) {
     switch (p.kind) {
       case ParameterKind::Drift: return c.drift[p.index];
       case ParameterKind::Diffusion: return c.diffusion[p.index];
       case ParameterKind::MeasurementSd: return c.measurement_var;
-      case ParameterKind::RecordPhase: return c.phase;
+      case ParameterKind::RecordPhase: return c.forcing.phase;
       case ParameterKind::Effect: break;
     }
     const std::string& k = p.effect_param;
-    if (k == "k_stop") return c.k_stop;
-    if (k == "gap") return c.gap;
-    if (k == "gap_neg") return c.gap_neg;
-    if (k == "amplitude") return c.amplitude;
-    if (k == "omega") return c.omega;
-    if (k == "phase") return c.phase;
+    if (p.effect == EffectId::ImpactStop) return member(c.stop, k);
+    if (p.effect == EffectId::HarmonicForcing) return member(c.forcing, k);
     if (k == "lambda") return c.lambda;
     if (k == "coupling") return c.coupling;
     if (k == "tau") return c.tau;

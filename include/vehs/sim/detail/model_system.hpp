@@ -12,8 +12,8 @@
 // Dynamics (Itô, docs/model-file.md plus the catalogue of src/core/model.cpp):
 //     dx = y dt
 //     dy = b2(t, x, y, u, v, η) dt + σ(x, y) dW₁,   σ = sqrt(a22(x, y))
-// with b2 = Σ coef·term(x, y, u) − k_stop·(x − gap)⁺ + k_stop·(−x − gap_neg)⁺
-//           + amplitude·cos(ω t + phase) − coupling·v + η.
+// with b2 = Σ coef·term(x, y, u) + stop force (vehs/effects/impact_stop.hpp)
+//           + harmonic force (vehs/effects/harmonic_forcing.hpp) − coupling·v + η.
 // Noise sources: W₁ acts on y with amplitude σ(x, y); W₂ (coloured noise only) acts on η with
 // the constant amplitude sqrt(intensity)/τ. σ never depends on v, η or t, and the η noise is
 // additive, so all mixed multiple Itô integrals of the order-1.5 scheme vanish (see steppers.hpp).
@@ -33,6 +33,8 @@
 #include <Eigen/Core>
 
 #include "vehs/core/model.hpp"
+#include "vehs/effects/harmonic_forcing.hpp"
+#include "vehs/effects/impact_stop.hpp"
 #include "vehs/sim/steppers.hpp"
 
 namespace vehs::sim::detail {
@@ -138,9 +140,9 @@ struct CompiledModel {
   bool noise_depends_on_y = false;
   // dynamic effects
   bool impact = false;
-  double k_stop = 0.0, gap = 0.0, gap_neg = 0.0;
+  effects::ImpactStop<double> stop;
   bool harmonic = false;
-  double amplitude = 0.0, omega = 0.0, phase = 0.0;
+  effects::HarmonicForcing<double> forcing;
   bool electro = false;
   double lambda = 0.0, coupling = 0.0;
   bool colored = false;
@@ -262,12 +264,10 @@ class ModelSystem {
     j.b2 = poly_y(m_.drift, x, x2, y);
     add_nonpoly(j.b2, t, s, x);
     j.b2_x = poly_y(m_.drift_dx, x, x2, y);
-    if (m_.impact)
-      j.b2_x -= m_.k_stop * ((x > m_.gap).template cast<double>() + (x < -m_.gap_neg).template cast<double>());
+    if (m_.impact) j.b2_x += m_.stop.force_dx(x);
     j.b2_y = poly_y(m_.drift_dy, x, x2, y);
     j.b2_yy = poly_y(m_.drift_dyy, x, x2, y);
-    j.b2_t = m_.harmonic ? Lanes::Constant(-m_.amplitude * m_.omega * std::sin(m_.omega * t + m_.phase))
-                         : Lanes::Zero();
+    j.b2_t = m_.harmonic ? Lanes::Constant(m_.forcing.force_dt(t)) : Lanes::Zero();
     if (m_.additive_noise) {
       j.sigma = Lanes::Constant(m_.constant_sigma);
       j.sigma_x = j.sigma_y = j.sigma_yy = Lanes::Zero();
@@ -314,8 +314,8 @@ class ModelSystem {
   void add_nonpoly(Lanes& r, double t, const State& s, const Lanes& x) const {
     if (!m_.has_extras) return;
     if (m_.drift.drive != 0.0) r += m_.drift.drive * u_;  // held over the interval: ∂_t = 0
-    if (m_.impact) r -= m_.k_stop * ((x - m_.gap).max(0.0) + (x + m_.gap_neg).min(0.0));
-    if (m_.harmonic) r += m_.amplitude * std::cos(m_.omega * t + m_.phase);
+    if (m_.impact) r += m_.stop.force(x);
+    if (m_.harmonic) r += m_.forcing.force(t);
     if constexpr (kElectro) r -= m_.coupling * s.col(electro_index);
     if constexpr (kColored) r += s.col(colored_index);
     (void)s;

@@ -1,8 +1,9 @@
-#include "stop_shape.hpp"
+#include "vehs/effects/impact_stop.hpp"
 
 #include <algorithm>
+#include <vector>
 
-namespace vehs::identify::detail {
+namespace vehs::effects {
 
 namespace {
 
@@ -27,11 +28,11 @@ inline void hinge_moments(double a, double d, double& m0, double& m1) {
 
 }  // namespace
 
-void stop_shape(const double* x, std::size_t n, double gp, double gn, int tent_k, double* out) {
+void impact_stop_record_shape(const double* x, std::size_t n, double gp, double gn, int tent_k, double* out) {
   const auto k = static_cast<std::size_t>(std::max(tent_k, 0));
   for (std::size_t i = 0; i < n; ++i) {
     if (k == 0 || i < k || i + k >= n) {
-      out[i] = -std::max(x[i] - gp, 0.0) + std::max(-x[i] - gn, 0.0);
+      out[i] = ImpactStop<double>{1.0, gp, gn}.force(x[i]);
       continue;
     }
     // quick exit: the whole window inside the gaps
@@ -59,4 +60,11 @@ void stop_shape(const double* x, std::size_t n, double gp, double gn, int tent_k
   }
 }
 
-}  // namespace vehs::identify::detail
+void add_impact_stop_record_force(const ImpactStop<double>& stop, const double* x, std::size_t n, int tent_k,
+                                  double* out) {
+  std::vector<double> shape(n);
+  impact_stop_record_shape(x, n, stop.gap, stop.gap_neg, tent_k, shape.data());
+  for (std::size_t i = 0; i < n; ++i) out[i] += stop.k_stop * shape[i];
+}
+
+}  // namespace vehs::effects
