@@ -25,7 +25,9 @@ reference() {
     "$build/$t" --help-markdown > "$root/docs/reference/$t-keys.md.tmp"
     mv "$root/docs/reference/$t-keys.md.tmp" "$root/docs/reference/$t-keys.md"
   done
-  echo "docs: wrote docs/reference/{$(IFS=,; echo "${tools[*]}")}-keys.md" >&2
+  "$build/identify-vehs" --catalogue-markdown > "$root/docs/reference/effects.md.tmp"
+  mv "$root/docs/reference/effects.md.tmp" "$root/docs/reference/effects.md"
+  echo "docs: wrote docs/reference/{$(IFS=,; echo "${tools[*]}")}-keys.md and effects.md" >&2
 }
 
 site() {

@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "tools/catalogue_markdown.hpp"
 #include "tools/run_files.hpp"
 #include "tools/terminal_progress.hpp"
 #include "vehs/core/error.hpp"
@@ -54,6 +55,14 @@ int run_app(int argc, char** argv, const ConfigSchema& schema,
            throw CLI::Success();
          },
          "print the config keys as Markdown (docs/reference/) and exit")
+      ->trigger_on_parse();
+  app.add_flag_callback(
+         "--catalogue-markdown",
+         [] {
+           std::cout << catalogue_markdown();
+           throw CLI::Success();
+         },
+         "print the effect catalogue as Markdown (docs/reference/effects.md) and exit")
       ->trigger_on_parse();
   // a boolean key fail_on_<x> is also the flag --fail-on-<x>, and the key force the flag --force
   std::vector<std::string> flag_keys;

@@ -6,7 +6,8 @@
       line  * `KEY` (SPEC)  with SPEC exactly the text in parentheses that --help prints after the
       key (type, and default / optional / required); and every such line must be a key of --help;
       docs/config.md must link to that page. And docs/reference/TOOL-keys.md must be exactly the
-      output of `EXECUTABLE --help-markdown` (scripts/docs.sh --reference rewrites it).
+      output of `EXECUTABLE --help-markdown`, and docs/reference/effects.md of `identify-vehs
+      --catalogue-markdown` (scripts/docs.sh --reference rewrites them).
   check_docs.py links SOURCE_DIR
       Relative links of README.md, docs/*.md, examples/ and data/**/README.md point to files that
       exist; no file refers to contracts.md (its content is in docs/); every identifier that
@@ -97,6 +98,18 @@ def check_config(source, tools):
         for key, (_, number) in documented.items():
             if key not in keys:
                 problems.append(f"{rel}:{number}: {tool} has no key '{key}' (not in --help)")
+        if tool == "identify-vehs":  # the effect catalogue page, generated from the effect types
+            rel = "docs/reference/effects.md"
+            path = os.path.join(source, rel)
+            generated = subprocess.run([executable, "--catalogue-markdown"], capture_output=True, text=True,
+                                       timeout=60).stdout
+            if not os.path.exists(path):
+                problems.append(f"{rel} missing: run scripts/docs.sh --reference")
+            else:
+                with open(path, encoding="utf-8") as f:
+                    if f.read() != generated:
+                        problems.append(f"{rel} differs from `identify-vehs --catalogue-markdown`: "
+                                        "run scripts/docs.sh --reference")
     return problems
 
 
