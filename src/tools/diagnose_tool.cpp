@@ -305,7 +305,7 @@ int run_diagnose(Config& c, const AppOptions& app) {
     }
   // the next step as a config identify-vehs runs as it is (tools/refit_config.hpp)
   const std::string refit_path = refit_config_path(c, folder);
-  const nlohmann::ordered_json refit = refit_identify_config(c, r, model, refit_path);
+  const nlohmann::ordered_json refit = refit_identify_config(c, r, model, refit_path, units);
   const std::string refit_command = refit.is_null() ? "" : "identify-vehs " + refit_path;
   add_diagnosis_to_report(report, r, label, entries, fingerprint, units, versions, &model, &data, refit_command);
   nlohmann::ordered_json j = diagnosis_to_json(r, &model);

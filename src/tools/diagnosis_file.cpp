@@ -96,7 +96,9 @@ nlohmann::ordered_json refit_config(const diagnose::Result& r, const Model& mode
     J lik;
     if (!(model.fit && model.fit->likelihood)) lik["use"] = "always";
     lik["select"] = false;
-    if (model.fit && model.uses_drive()) lik["input"] = enum_to_string(kInputInterpolationNames, model.fit->input);
+    // the input's interpolation as the likelihood chose it (a moment fit's default "zoh" is no choice)
+    if (model.fit && model.fit->likelihood && model.uses_drive())
+      lik["input"] = enum_to_string(kInputInterpolationNames, model.fit->input);
     for (const auto& c : r.confirmation.effects)
       if (c.confirmed && c.per_record_phase) lik["per_record_phase"] = true;
     cfg["likelihood"] = lik;

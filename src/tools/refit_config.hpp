@@ -18,8 +18,10 @@ std::string refit_config_path(const Config& diagnose_config, const std::string& 
 
 /// The complete identify-vehs config, or null when the diagnosis recommends nothing (refit_config
 /// null). Its `output` is refit_model.json in the folder of `path`; its measurement keys are the
-/// diagnose config's (globs in `data` kept as patterns).
+/// diagnose config's (globs in `data` kept as patterns); `units` (the diagnosis's: its config's,
+/// else the model file's) are written when the config's measurement keys lack them.
 nlohmann::ordered_json refit_identify_config(const Config& diagnose_config, const diagnose::Result& result,
-                                             const Model& model, const std::string& path);
+                                             const Model& model, const std::string& path,
+                                             const nlohmann::ordered_json& units);
 
 }  // namespace vehs::tools
