@@ -9,7 +9,7 @@ version = release = re.search(r"project\(vehs VERSION ([0-9.]+)",
 extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.napoleon"]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
-myst_heading_anchors = 3
+myst_heading_anchors = 6  # every heading, as GitHub; tests/docs/check_docs.py checks links to them
 myst_enable_extensions = ["dollarmath"]
 # Links to source files (headers, configs, scripts) are not pages of the site; scripts/docs.sh
 # checks that every relative link of the Markdown pages names an existing file
