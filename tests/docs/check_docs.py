@@ -11,7 +11,8 @@
       Relative links of README.md, docs/*.md, examples/ and data/**/README.md point to files that
       exist, and a link's #anchor into a Markdown page (or within the page) names one of that page's
       headings (GitHub's and MyST's slug: myst_heading_anchors in docs/site/conf.py); no file refers to contracts.md (its content is in docs/); every identifier that
-      docs/library.md's "Using the library" table names is declared in include/vehs/.
+      docs/library.md's "Using the library" table names is declared in include/vehs/; README.md
+      is a guide of at most 250 lines (the studies live in docs/).
 Exit status 0 when everything matches, else 1 with one line per problem.
 """
 import os
@@ -101,6 +102,7 @@ def check_config(source, tools):
     return problems
 
 
+README_MAX_LINES = 250
 LINK = re.compile(r"\]\(([^)#\s]*)(#[^)\s]*)?\)")
 FENCE = re.compile(r"^\s*(```|~~~)")
 HEADING = re.compile(r"^(#{1,6})\s+(.*?)\s*#*\s*$")
@@ -186,6 +188,10 @@ def check_links(source):
                             problems.append(f"{os.path.relpath(p, source)}:{number}: refers to contracts.md "
                                             "(now docs/: see docs/README.md)")
     problems += check_readme_names(source)
+    with open(os.path.join(source, "README.md"), encoding="utf-8") as f:
+        lines = f.read().count("\n")
+    if lines > README_MAX_LINES:
+        problems.append(f"README.md: {lines} lines, at most {README_MAX_LINES} (move detail to docs/)")
     return problems
 
 
