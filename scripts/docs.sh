@@ -6,7 +6,8 @@
 #                                 (autodoc, from the package installed in BUILD/python-venv) and
 #                                 the C++ API from include/vehs/ (Doxygen HTML, linked in). Sphinx
 #                                 runs with warnings as errors; relative links of every page are
-#                                 checked offline first (tests/docs/check_docs.py links).
+#                                 checked offline first, files and #anchors alike (tests/docs/
+#                                 check_docs.py links: a link to a missing heading fails).
 #   scripts/docs.sh --reference   rewrite docs/reference/<tool>-keys.md from the built executables'
 #                                 --help-markdown (the same key table as --help); the CTest test
 #                                 "docs: key references in docs/reference match every tool's --help"

@@ -10,8 +10,10 @@
       --catalogue-markdown` (scripts/docs.sh --reference rewrites them).
   check_docs.py links SOURCE_DIR
       Relative links of README.md, docs/*.md, examples/ and data/**/README.md point to files that
-      exist; no file refers to contracts.md (its content is in docs/); every identifier that
-      docs/library.md's "Using the library" table names is declared in include/vehs/.
+      exist, and a link's #anchor into a Markdown page (or within the page) names one of that page's
+      headings (GitHub's and MyST's slug: myst_heading_anchors in docs/site/conf.py); no file refers to contracts.md (its content is in docs/); every identifier that
+      docs/library.md's "Using the library" table names is declared in include/vehs/; README.md
+      is a guide of at most 250 lines (the studies live in docs/).
 Exit status 0 when everything matches, else 1 with one line per problem.
 """
 import os
@@ -113,7 +115,52 @@ def check_config(source, tools):
     return problems
 
 
-LINK = re.compile(r"\]\(([^)#\s]+)(#[^)\s]*)?\)")
+README_MAX_LINES = 250
+LINK = re.compile(r"\]\(([^)#\s]*)(#[^)\s]*)?\)")
+FENCE = re.compile(r"^\s*(```|~~~)")
+HEADING = re.compile(r"^(#{1,6})\s+(.*?)\s*#*\s*$")
+SLUG_DROP = re.compile(r"[^\w\u4e00-\u9fff\- ]")
+
+
+def heading_text(title):
+    """A heading's text as rendered: links reduced to their text, code spans and emphasis unmarked."""
+    title = re.sub(r"!?\[([^\]]*)\]\([^)]*\)", r"\1", title)
+    return title.replace("`", "").replace("*", "")
+
+
+def anchors(path):
+    """The anchors of a Markdown page: GitHub-style slugs of its headings (duplicates get -1, -2, ...,
+    as GitHub and MyST's github_slugify/unique_slug make them) and MyST targets "(name)=" ."""
+    found, inside = set(), False
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            if FENCE.match(line):
+                inside = not inside
+                continue
+            if inside:
+                continue
+            target = re.match(r"^\((\S+)\)=\s*$", line)
+            if target:
+                found.add(target.group(1))
+            m = HEADING.match(line)
+            if m:
+                slug = SLUG_DROP.sub("", heading_text(m.group(2)).lower().replace(" ", "-"))
+                unique, i = slug, 1
+                while unique in found:
+                    unique, i = f"{slug}-{i}", i + 1
+                found.add(unique)
+    return found
+
+
+def link_targets(text):
+    """(target, anchor) of every Markdown link outside fenced code blocks."""
+    inside, out = False, []
+    for line in text.splitlines():
+        if FENCE.match(line):
+            inside = not inside
+        elif not inside:
+            out += [(m.group(1), (m.group(2) or "")[1:]) for m in LINK.finditer(line)]
+    return out
 
 
 def markdown_files(source):
@@ -131,12 +178,15 @@ def check_links(source):
     for path in markdown_files(source):
         with open(path, encoding="utf-8") as f:
             text = f.read()
-        for m in LINK.finditer(text):
-            target = m.group(1)
+        for target, anchor in link_targets(text):
             if re.match(r"^[a-z]+://", target) or target.startswith("mailto:"):
                 continue
-            if not os.path.exists(os.path.normpath(os.path.join(os.path.dirname(path), target))):
+            full = os.path.normpath(os.path.join(os.path.dirname(path), target)) if target else path
+            if not os.path.exists(full):
                 problems.append(f"{os.path.relpath(path, source)}: link to missing '{target}'")
+            elif anchor and full.endswith(".md") and anchor not in anchors(full):
+                problems.append(f"{os.path.relpath(path, source)}: link to '{target}#{anchor}': "
+                                f"{os.path.relpath(full, source)} has no heading with that anchor")
     for top in ("README.md", "docs", "include", "src", "apps", "data", "examples", "tests", "scripts", "bench"):
         full = os.path.join(source, top)
         walk = [(source, [], [top])] if os.path.isfile(full) else os.walk(full)
@@ -151,6 +201,10 @@ def check_links(source):
                             problems.append(f"{os.path.relpath(p, source)}:{number}: refers to contracts.md "
                                             "(now docs/: see docs/README.md)")
     problems += check_readme_names(source)
+    with open(os.path.join(source, "README.md"), encoding="utf-8") as f:
+        lines = f.read().count("\n")
+    if lines > README_MAX_LINES:
+        problems.append(f"README.md: {lines} lines, at most {README_MAX_LINES} (move detail to docs/)")
     return problems
 
 
