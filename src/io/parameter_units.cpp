@@ -14,7 +14,7 @@ std::string unit_name(const nlohmann::json& units, const char* key, const char* 
 bool compound(const std::string& name) { return name.find_first_of("/ *") != std::string::npos; }
 
 /// name^power; a compound name ("m/s^2") is parenthesised when raised to a power or combined with
-/// other factors, so the product reads as one unit: "mm/((m/s^2) s^2)".
+/// other factors, so that it reads as one unit.
 std::string factor(const std::string& name, int power, bool alone) {
   const bool wrap = compound(name) && (power != 1 || !alone);
   const std::string base = wrap ? "(" + name + ")" : name;
@@ -30,8 +30,16 @@ std::string joined(const std::vector<std::string>& factors) {
 }  // namespace
 
 std::string unit_text(const Dimension& d, const nlohmann::json& units) {
+  const std::string input = unit_name(units, "input", "input");
+  if (d.input != 0 && compound(input)) {  // a compound input unit (m/s^2) is divided or multiplied whole
+    const std::string rest = unit_text({d.length, d.time, 0}, units);
+    const std::string in = factor(input, std::abs(d.input), false);
+    const std::string r = compound(rest) ? "(" + rest + ")" : rest;
+    if (d.input < 0) return r + "/" + in;
+    return rest == "1" ? factor(input, d.input, true) : in + " " + r;
+  }
   const std::pair<std::string, int> parts[] = {{unit_name(units, "length", "length"), d.length},
-                                               {unit_name(units, "input", "input"), d.input},
+                                               {input, d.input},
                                                {unit_name(units, "time", "time"), d.time}};
   int factors = 0;
   for (const auto& part : parts) factors += part.second != 0;

@@ -54,7 +54,8 @@ TEST_CASE("parameter units are derived from the term's powers and the data's uni
   CHECK(parameter_unit("beta", nlohmann::json::object()) == "1/time");
   // a compound input unit (a base acceleration) stays one unit inside the product
   const nlohmann::json accel = {{"length", "mm"}, {"time", "s"}, {"input", "m/s^2"}};
-  CHECK(parameter_unit("drift[u]", accel) == "mm/((m/s^2) s^2)");
+  CHECK(parameter_unit("drift[u]", accel) == "(mm/s^2)/(m/s^2)");
+  CHECK(vehs::unit_text({0, -2, -1}, accel) == "(1/s^2)/(m/s^2)");
   CHECK(vehs::unit_text({0, 0, 1}, accel) == "m/s^2");
   CHECK(vehs::unit_text({0, 0, -1}, accel) == "1/(m/s^2)");
 }

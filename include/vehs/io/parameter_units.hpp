@@ -16,7 +16,9 @@
 
 namespace vehs {
 
-/// A dimension in the units block's names: "mm/s^2", "1/(mm^2 s^2)", "1" when dimensionless.
+/// A dimension in the units block's names: "mm/s^2", "1/(mm^2 s^2)", "1" when dimensionless. A
+/// compound input unit divides or multiplies the rest whole: "(mm/s^2)/(m/s^2)" for drift[u]
+/// with a base acceleration in m/s^2 ("mm/(V s^2)" with volts).
 std::string unit_text(const Dimension& d, const nlohmann::json& units);
 
 /// The unit of a parameter named as in parameters.hpp ("rad" for harmonic_forcing.phase).
