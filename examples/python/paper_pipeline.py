@@ -32,7 +32,7 @@ def section(title):
 
 def table(model, truth):
     print(f"  {'parameter':<10} {'true':>10} {'learned':>12} {'stderr':>10}")
-    for name, value, se in model.parameters():
+    for name, value, se, _unit in model.parameters():
         try:
             true = truth[name]
         except vehs.Error:

@@ -131,6 +131,17 @@ std::string sweep_block(const ModelFile& model, const std::string& options_json,
 }  // namespace
 
 void bind_fpk(nb::module_& m) {
+  m.def("stationary_region",
+        [](const ModelFile& model, double log_density_drop) {
+          const fpk::FpkModel fm(model.model, "vehs.plot: model");
+          fpk::DomainOptions o;
+          o.log_density_drop = log_density_drop;
+          const fpk::Grid g = fpk::automatic_domain(fm, 3, 3, o);
+          return std::vector<double>{g.x.min, g.x.max, g.y.min, g.y.max};
+        },
+        nb::arg("model"), nb::arg("log_density_drop"),
+        "[x_min, x_max, y_min, y_max] where the stationary density stays within e^-K of its peak "
+        "(fpk::automatic_domain, the rule of fpk-stationary's automatic grid).");
   m.def("mean_power",
         [](double eyy, const std::string& units, const std::string& harvester) {
           const tools::MeanPower p = tools::mean_power(eyy, nlohmann::json::parse(units), nlohmann::json::parse(harvester));

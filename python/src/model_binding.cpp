@@ -15,6 +15,7 @@
 #include "vehs/core/model_builder.hpp"
 #include "vehs/core/parameters.hpp"
 #include "vehs/io/model_file.hpp"
+#include "vehs/io/parameter_units.hpp"
 
 namespace vehs::python {
 
@@ -57,15 +58,27 @@ void bind_model(nb::module_& m) {
       .def("to_json", [](const ModelFile& f) { return json_text(model_to_json(f.model, f.sections)); })
       .def("get", [](const ModelFile& f, const std::string& name) { return get_parameter(f.model, name); })
       .def("set", [](ModelFile& f, const std::string& name, double v) { set_parameter(f.model, name, v); })
-      .def("parameters", [](const ModelFile& f) {
-        std::vector<std::tuple<std::string, double, double>> out;
-        for (const auto& p : physical_parameters(f.model))
-          out.emplace_back(p.name, p.value, p.stderr_ ? *p.stderr_ : std::nan(""));
+      .def("parameters", [](const ModelFile& f) {  // the CLI's tables' rows (vehs/io/parameter_units.hpp)
+        std::vector<std::tuple<std::string, double, double, std::string>> out;
+        for (const auto& [p, unit] : parameter_rows(f.model, units_of(f.sections)))
+          out.emplace_back(p.name, p.value, p.stderr_ ? *p.stderr_ : std::nan(""), unit);
         return out;
       })
       .def("b2", [](const ModelFile& f, double x, double y, double u) { return f.model.b2(x, y, u); })
       .def("a22", [](const ModelFile& f, double x, double y) { return f.model.a22(x, y); })
       .def("__copy__", [](const ModelFile& f) { return ModelFile(f); });
+  // the unit rule of the tools' tables, for vehs.plot's axis labels (vehs/io/parameter_units.hpp)
+  m.def(
+      "unit_text",
+      [](int length, int time, int input, const std::string& units) {
+        return unit_text(Dimension{length, time, input}, nlohmann::json::parse(units));
+      },
+      nb::arg("length"), nb::arg("time"), nb::arg("input"), nb::arg("units"),
+      "length^a time^b input^c in the names of a units block (JSON): \"mm/s^2\", \"1\" when dimensionless.");
+  m.def(
+      "parameter_unit",
+      [](const std::string& name, const std::string& units) { return parameter_unit(name, nlohmann::json::parse(units)); },
+      nb::arg("name"), nb::arg("units"), "The unit of a physical parameter (beta, k3, coulomb_friction.mu, ...).");
 }
 
 }  // namespace vehs::python

@@ -1,5 +1,6 @@
 // vehs.read: measurement files read, checked and detrended by the readers and the data checks of
 // identify-vehs and diagnose-vehs (the same code: the same records, the same one-line errors).
+#include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
 
 #include "bindings.hpp"
@@ -12,7 +13,7 @@ namespace vehs::python {
 namespace {
 
 /// The keys of vehs.read: `data` and the measurement keys (columns, dt, sampling, detrend,
-/// glitches, flat_stretches, ...), and `u` (true: every file must have the drive column).
+/// glitches, flat_stretches, units, ...), and `u` (true: every file must have the drive column).
 const tools::ConfigSchema& read_schema() {
   static const tools::ConfigSchema schema = tools::with_keys_after(
       "u", tools::measurement_keys(),
@@ -25,8 +26,10 @@ const tools::ConfigSchema& read_schema() {
   return schema;
 }
 
-Records read_records(const std::string& options_json) {
-  const tools::Config c = config_from_json(options_json, "vehs.read", read_schema(), {"units"});
+/// The records and their units block (JSON; {} without `units`), checked as the tools check it.
+std::pair<Records, std::string> read_records(const std::string& options_json) {
+  const tools::Config c = config_from_json(options_json, "vehs.read", read_schema(), {});
+  const std::string units = json_text(tools::units_block(c));
   if (!c.has("data")) c.fail("data", "is missing (the measurement files)");
   const bool need_u = c.boolean_or("u", false);
   ReadOptions options = tools::read_options(c, need_u);
@@ -35,7 +38,7 @@ Records read_records(const std::string& options_json) {
   Records r;
   *r.data = std::move(loaded.data);
   r.checked = true;
-  return r;
+  return {std::move(r), units};
 }
 
 }  // namespace

@@ -127,6 +127,7 @@ class Stationary:
     moments: dict
     summary: dict = field(repr=False)
     power: dict = None  # fpk-stationary's mean_power: watts (null without harvester constants or SI units), how
+    units: dict = None  # the model's units section (vehs.plot.density labels its axes with it)
     _core: object = field(repr=False, default=None)
 
 
@@ -149,7 +150,8 @@ def stationary(model, grid=None, progress=None, **options):
     x, y = _centres(g["x"]), _centres(g["y"])
     return Stationary(density=core.density.reshape(x.size, y.size), x=x, y=y, marginal_x=core.marginal_x,
                       marginal_y=core.marginal_y, moments={k: v for k, v in summary.items() if k.startswith("E[")}, summary=summary,
-                      power=summary.get("mean_power"), _core=core)
+                      power=summary.get("mean_power"), units=model.to_dict().get("units"),
+                      _core=core)
 
 
 def sweep(model, sweep, grid=None, progress=None, **options):

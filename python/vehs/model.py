@@ -1,4 +1,5 @@
 """vehs.Model: a model of dX = Y dt, dY = b2 dt + sqrt(a22) dB plus named effects."""
+import collections
 import json
 import os
 import tempfile
@@ -11,6 +12,11 @@ def _effect_list(effects):
     if isinstance(effects, dict):
         return [(name, dict(params or {})) for name, params in effects.items()]
     return [(e, {}) if isinstance(e, str) else (e[0], dict(e[1])) for e in (effects or [])]
+
+
+Parameter = collections.namedtuple("Parameter", "name value stderr unit")
+Parameter.__doc__ = """One row of the parameter table: physical name (beta, k3, 2D, coulomb_friction.mu, ...), value,
+standard error (nan when the model file has none) and unit."""
 
 
 class Model:
@@ -76,8 +82,13 @@ class Model:
         return self.to_dict().get("stderr", {})
 
     def parameters(self):
-        """[(name, value, stderr or nan)] in the library's order: beta, k_i, ..., 2D, 2Q, effects."""
-        return self._core.parameters()
+        """The parameter table of identify-vehs, diagnose-vehs and vehs-compare as a list of
+        :class:`Parameter` (name, value, stderr or nan, unit) in the library's order: beta, k_i, ...,
+        2D, 2Q, effects. The unit is the parameter's dimension in the names of the model's ``units``
+        section (``{"length": "mm", "time": "s"}`` gives "1/(mm^2 s^2)" for k3); a name the section
+        lacks is written as the quantity ("1/time"). The rule is the library's
+        (vehs/io/parameter_units.hpp), the one the command-line tools print."""
+        return [Parameter(*row) for row in self._core.parameters()]
 
     def __getitem__(self, name):
         return self._core.get(name)
@@ -95,5 +106,5 @@ class Model:
         return self._core.a22(float(x), float(y))
 
     def __repr__(self):
-        terms = ", ".join(f"{n}={v:.6g}" for n, v, _ in self.parameters())
+        terms = ", ".join(f"{n}={v:.6g}" for n, v, _, _ in self.parameters())
         return f"vehs.Model({terms})"

@@ -1,10 +1,62 @@
 """matplotlib figures for notebooks: potential, drift and diffusion with bands and binned
 estimates from the records, the stationary density with its marginals, the suspects table, and
 mean power in W with error bars (or against a swept parameter). Each function draws into ``ax`` (or a new figure) and
-returns the axes."""
+returns the axes.
+
+Ranges. The x axis of potential, drift and diffusion is ``x`` when given; else the records' range
+(smallest to largest sample of every record, widened by 5 % on each side); else, without records,
+the model's: where its stationary density stays within e^-9 (about 1e-4) of its peak, by the rule
+of fpk-stationary's automatic grid (fpk::automatic_domain with log_density_drop 9, which spans the
+wells and the noise around them). A model that has no stationary density (a drive ``u``, a
+dynamic effect) needs records or ``x``.
+
+Labels. Every axis names its quantity; with units — ``units`` given, else the model's ``units``
+section, else the records' (``vehs.read(..., units=...)``) — the unit follows in brackets, written
+by the library's rule of the parameter tables (vehs/io/parameter_units.hpp): "displacement x [mm]",
+"drift b2(x, 0) [mm/s^2]", "diffusion a22(x, 0) [mm^2/s^3]"."""
+import json
+
 import numpy as np
 
+from . import _vehs
 from .records import Records
+
+_PLOT_LOG_DENSITY_DROP = 9.0  # e-folds below the density's peak at the edge of the model's range
+
+
+def _units_of(model=None, records=None, units=None):
+    """The units block of the labels: ``units``, else the model's, else the records'; None without."""
+    if units:
+        return units
+    if model is not None:
+        u = model.to_dict().get("units")
+        if u:
+            return u
+    return getattr(records, "units", None) or None
+
+
+def _label(quantity, units, length=0, time=0, input=0):
+    """'quantity [unit]' in the units' names (the library's unit_text), or the quantity alone."""
+    if not units:
+        return quantity
+    return f"{quantity} [{_vehs.unit_text(length, time, input, json.dumps(units))}]"
+
+
+def _x_range(model, records, x, n=401):
+    """The x values of a curve: ``x``, else the records' range, else the model's stationary region
+    (the module's docstring states the rule)."""
+    if x is not None:
+        return np.asarray(x, dtype=float)
+    if isinstance(records, Records):
+        data = np.asarray(records.x).ravel()
+        lo, hi = float(np.nanmin(data)), float(np.nanmax(data))
+        pad = 0.05 * (hi - lo) if hi > lo else max(abs(lo), 1.0) * 0.05
+        return np.linspace(lo - pad, hi + pad, n)
+    try:
+        lo, hi, _, _ = _vehs.stationary_region(model._core, _PLOT_LOG_DENSITY_DROP)
+    except _vehs.Error as e:
+        raise _vehs.Error(f"vehs.plot: give records or x: the model has no stationary region ({e})") from None
+    return np.linspace(lo, hi, n)
 
 
 def _axes(ax, **subplots):
@@ -46,10 +98,10 @@ def _unit_model(kind, term):
     return None
 
 
-def _model_curve(model, x, kind, ax, label):
+def _model_curve(model, records, x, kind, ax, label):
     """Draws b2(x, 0) or a22(x, 0) with its 2-SE band; returns the axes and the x values."""
     ax = _axes(ax)
-    x = np.linspace(-1.6, 1.6, 401) if x is None else np.asarray(x)
+    x = _x_range(model, records, x)
     value, band = _coefficient_band(model, x, kind)
     ax.plot(x, value, label=label)
     ax.fill_between(x, value - band, value + band, alpha=0.3, label="2 SE")
@@ -91,37 +143,42 @@ def _binned(x, values, edges):
     return np.array(centres), np.array(means), np.array(errors)
 
 
-def potential(model, x=None, ax=None, **plot):
-    """U(x) = -integral of b2(x, 0) from 0 (the restoring force's potential)."""
+def potential(model, x=None, ax=None, records=None, units=None, **plot):
+    """U(x) = -integral of b2(x, 0) from 0 (the restoring force's potential, per unit mass:
+    length^2/time^2), over ``x`` or the range of ``records`` or of the model (module docstring)."""
     ax = _axes(ax)
-    x = np.linspace(-1.6, 1.6, 401) if x is None else np.asarray(x)
+    x = _x_range(model, records, x)
     f = np.array([model.b2(v, 0.0) for v in x])
     u = -np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(x))])
     u -= u[np.argmin(np.abs(x))]
     ax.plot(x, u, **plot)
-    ax.set_xlabel("x")
-    ax.set_ylabel("U(x)")
+    units = _units_of(model, records, units)
+    ax.set_xlabel(_label("displacement x", units, length=1))
+    ax.set_ylabel(_label("potential U(x)", units, length=2, time=-2))
     return ax
 
 
-def drift(model, records=None, x=None, bins=40, ax=None, label="model"):
+def drift(model, records=None, x=None, bins=40, ax=None, label="model", units=None):
     """b2(x, 0) with a 2-SE band, and binned E[acceleration | x] from the records (which equals
-    the restoring force b2(x, 0) in stationarity for drifts linear in y)."""
-    ax, x = _model_curve(model, x, "drift", ax, label)
+    the restoring force b2(x, 0) in stationarity for drifts linear in y). x spans ``x``, else the
+    records, else the model's stationary region (module docstring)."""
+    ax, x = _model_curve(model, records, x, "drift", ax, label)
     if isinstance(records, Records):
         xi, _, acc, _ = _kinematics(records, model)
         c, m, e = _binned(xi, acc, np.linspace(x.min(), x.max(), bins + 1))
         ax.errorbar(c, m, yerr=2 * e, fmt=".", label="binned data")
-    ax.set_xlabel("x")
-    ax.set_ylabel("b2(x, 0)")
+    units = _units_of(model, records, units)
+    ax.set_xlabel(_label("displacement x", units, length=1))
+    ax.set_ylabel(_label("drift b2(x, 0)", units, length=1, time=-2))
     ax.legend()
     return ax
 
 
-def diffusion(model, records=None, x=None, bins=40, ax=None, label="model"):
+def diffusion(model, records=None, x=None, bins=40, ax=None, label="model", units=None):
     """a22(x, 0) with a 2-SE band, and the binned estimate c dt E[(a - b2(x, v))^2 | x] from the
-    records (c = 1 with forward differences, 3/2 with ULI's central ones: see _kinematics)."""
-    ax, x = _model_curve(model, x, "diffusion", ax, label)
+    records (c = 1 with forward differences, 3/2 with ULI's central ones: see _kinematics). x spans
+    ``x``, else the records, else the model's stationary region (module docstring)."""
+    ax, x = _model_curve(model, records, x, "diffusion", ax, label)
     if isinstance(records, Records):
         xi, vi, acc, factor = _kinematics(records, model)
         stride = max(1, xi.size // 200000)  # b2 is evaluated per sample in Python: subsample
@@ -129,14 +186,17 @@ def diffusion(model, records=None, x=None, bins=40, ax=None, label="model"):
         resid = acc - np.array([model.b2(a, b) for a, b in zip(xi, vi)])
         c, m, e = _binned(xi, factor * records.dt * resid ** 2, np.linspace(x.min(), x.max(), bins + 1))
         ax.errorbar(c, m, yerr=2 * e, fmt=".", label="binned data")
-    ax.set_xlabel("x")
-    ax.set_ylabel("a22(x, 0)")
+    units = _units_of(model, records, units)
+    ax.set_xlabel(_label("displacement x", units, length=1))
+    ax.set_ylabel(_label("diffusion a22(x, 0)", units, length=2, time=-3))
     ax.legend()
     return ax
 
 
-def density(stationary, fig=None):
-    """p(x, y) as a map with the marginals p(x) and p(y) beside it; returns the three axes."""
+def density(stationary, fig=None, units=None, model=None):
+    """p(x, y) as a map with the marginals p(x) and p(y) beside it, over the solver's grid (the
+    region where the density lives); returns the three axes. Labels carry ``units`` (else the
+    ``model``'s units section, else those of the model vehs.stationary solved)."""
     import matplotlib.pyplot as plt
 
     fig = fig or plt.figure(figsize=(7, 6))
@@ -146,12 +206,13 @@ def density(stationary, fig=None):
     side = fig.add_subplot(grid[1, 1], sharey=main)
     s = stationary
     main.pcolormesh(s.x, s.y, s.density.T, shading="nearest")
-    main.set_xlabel("x")
-    main.set_ylabel("y")
+    units = _units_of(model, None, units) or getattr(s, "units", None)
+    main.set_xlabel(_label("displacement x", units, length=1))
+    main.set_ylabel(_label("velocity y", units, length=1, time=-1))
     top.plot(s.x, s.marginal_x)
-    top.set_ylabel("p(x)")
+    top.set_ylabel(_label("p(x)", units, length=-1))
     side.plot(s.marginal_y, s.y)
-    side.set_xlabel("p(y)")
+    side.set_xlabel(_label("p(y)", units, length=-1, time=1))
     top.tick_params(labelbottom=False)
     side.tick_params(labelleft=False)
     return main, top, side
@@ -195,8 +256,15 @@ def power(data, ax=None, units=None, harvester=None, moment="E[Y^2]"):
     ax.errorbar(pos, [d[value] for _, d in items], yerr=[2 * d[err] for _, d in items], fmt="o", capsize=4)
     ax.set_xticks(pos)
     ax.set_xticklabels([k for k, _ in items])
-    ax.set_ylabel("mean power [W] (±2 SE)" if in_watts else "E[Y^2] (±2 SE; power ∝ E[Y^2])")
+    ax.set_ylabel("mean power [W] (±2 SE)" if in_watts else
+                  _label("E[Y^2]", units, length=2, time=-2) + " (±2 SE; power ∝ E[Y^2])")
     return ax
+
+
+def _moment_label(moment, units):
+    """E[X^2] [mm^2], E[Y^2] [mm^2/s^2], E[XY] [mm^2/s] with units."""
+    time = {"E[X^2]": 0, "E[Y^2]": -2, "E[XY]": -1}.get(moment)
+    return moment if time is None else _label(moment, units, length=2, time=time)
 
 
 def _sweep_power(sweep, ax, units, harvester, moment):
@@ -213,6 +281,6 @@ def _sweep_power(sweep, ax, units, harvester, moment):
             sel = [p for p in pts if p[names[1]] == v]
             ax.plot([p[names[0]] for p in sel], [scale * p[moment] for p in sel], "o-", label=f"{names[1]} = {v:g}")
         ax.legend()
-    ax.set_xlabel(names[0])
-    ax.set_ylabel("mean power [W]" if in_watts else moment)
+    ax.set_xlabel(f"{names[0]} [{_vehs.parameter_unit(names[0], json.dumps(units))}]" if units else names[0])
+    ax.set_ylabel("mean power [W]" if in_watts else _moment_label(moment, units))
     return ax

@@ -1,4 +1,6 @@
 """Records: displacement records in memory, shared with the library without copies."""
+import json
+
 import numpy as np
 
 from . import _vehs
@@ -16,6 +18,7 @@ class Records:
     def __init__(self, core):
         self._core = core
         self.statistics = None  # vehs.simulate(..., statistics=...): the Monte Carlo statistics of the run
+        self.units = None  # vehs.read(..., units=...): the data's units block (vehs.plot labels axes with it)
 
     def _shaped(self, flat):
         sizes = self.sizes
@@ -68,11 +71,16 @@ def read(data=None, **options):
     file has it). identify and diagnose take the Records as checked here. A path may be a glob
     pattern (``"rig/run_*.csv"``: the matching files in byte order, as in the tools' configs).
     ``measurement="rig.json"``: a measurement file holding any of these keys and ``data`` (the
-    tools' ``measurement`` key); what the call gives itself wins."""
+    tools' ``measurement`` key); what the call gives itself wins. ``units``
+    (``{"length": "mm", "time": "s"}``, given or from the measurement file) is checked as the tools
+    check it and kept as ``Records.units`` for vehs.plot's labels."""
     from .options import options_json
     if data is not None:
         options["data"] = [str(p) for p in data] if isinstance(data, (list, tuple)) else [str(data)]
-    return Records(_vehs.read(options_json("vehs.read", options)))
+    core, units = _vehs.read(options_json("vehs.read", options))
+    records = Records(core)
+    records.units = json.loads(units) or None
+    return records
 
 
 def as_records(x, dt=None, u=None, source="x"):

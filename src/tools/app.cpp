@@ -24,12 +24,16 @@ constexpr long long kMaxThreads = 1024;
 const char* library_version() { return "vehs " VEHS_VERSION; }
 
 int run_app(int argc, char** argv, const ConfigSchema& schema,
-            const std::function<int(Config&, const AppOptions&)>& body) {
+            const std::function<int(Config&, const AppOptions&)>& body, const ConfigOption* config_option) {
   CLI::App app{schema.summary, schema.tool};
-  std::string config_path;
+  std::string config_path, option_file;
   std::vector<std::string> overrides;
   AppOptions options;
-  app.add_option("config", config_path, "JSON config file (keys below)")->required();
+  CLI::Option* positional = app.add_option("config", config_path, "JSON config file (keys below)");
+  if (config_option)
+    positional->excludes(app.add_option(config_option->flag, option_file, config_option->help));
+  else
+    positional->required();
   app.add_option("--set", overrides, "override a config key: --set key=value (value is JSON)");
   app.add_option("--threads", options.threads, "threads for parallel work (default: all cores)")
       ->check(CLI::Validator(
@@ -83,6 +87,10 @@ int run_app(int argc, char** argv, const ConfigSchema& schema,
     std::cerr << schema.tool << ": " << e.what() << " (see --help)\n";
     return 2;
   }
+  if (config_option && config_path.empty() && option_file.empty()) {
+    std::cerr << schema.tool << ": config or " << config_option->flag << " is required (see --help)\n";
+    return 2;
+  }
   if (!options.quiet) options.progress = terminal_progress();
   install_signal_cleanup(schema.tool.c_str());
   // a reader that stops early (tool ... | head -1) makes writes to stdout fail with EPIPE
@@ -90,6 +98,7 @@ int run_app(int argc, char** argv, const ConfigSchema& schema,
   std::signal(SIGPIPE, SIG_IGN);
   try {
     set_threads(options.threads);
+    if (!option_file.empty()) config_path = config_option->resolve(option_file);
     Config config = Config::load(config_path, schema);
     for (const auto& o : overrides) config.set_override(o, schema);
     for (std::size_t i = 0; i < flag_keys.size(); ++i)

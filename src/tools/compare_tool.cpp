@@ -16,6 +16,7 @@
 #include "tools/table.hpp"
 #include "vehs/io/json_file.hpp"
 #include "vehs/io/model_file.hpp"
+#include "vehs/io/parameter_units.hpp"
 
 namespace vehs::tools {
 
@@ -32,7 +33,7 @@ ConfigSchema make_schema() {
            {"reported_label", "string", "column title for `reported`", "\"paper\""},
            {"fpk", "path", "statistics JSON written by fpk-stationary", "", true},
            {"monte_carlo", "path", "statistics JSON of simulate-vehs (with stderr)", "", true},
-           {"output", "path", "also write the parameter table as CSV here", "", true}},
+           {"output", "path", "also write the parameter table as CSV here (with each parameter's unit)", "", true}},
           "dev/se, rel.err and the FPK - Monte Carlo difference show \"overflow\" where the ratio exceeds the "
           "largest double (a standard error or true value near zero).\n"
           "Example: vehs-compare data/paper/compare.json"};
@@ -191,10 +192,16 @@ int run_compare(Config& c, const AppOptions&) {
   if (reported) collect(*reported);
   std::map<std::string, PhysicalParameter> lp;
   for (const auto& p : physical_parameters(learned)) lp[p.name] = p;
+  // units (vehs/io/parameter_units.hpp): printed when the learned model file states them
+  const nlohmann::json units = units_of(learned_file.sections);
+  const bool print_units = !units.empty();
 
-  std::printf("%-16s %11s %11s %24s %10s %9s\n", "parameter", truth ? "true" : "", reported ? rlabel.c_str() : "",
-              "learned +- stderr", truth ? "dev/se" : "", truth ? "rel.err" : "");
+  int name_width = 16;  // the longest name (coulomb_friction.mu) widens the first column
+  for (const auto& n : names) name_width = std::max(name_width, static_cast<int>(n.size()));
+  std::printf("%-*s %11s %11s %24s %10s %9s%s\n", name_width, "parameter", truth ? "true" : "", reported ? rlabel.c_str() : "",
+              "learned +- stderr", truth ? "dev/se" : "", truth ? "rel.err" : "", print_units ? "  unit" : "");
   Table table({"true", "reported", "learned", "stderr"}, "parameter");
+  table.text_column = "unit";
   for (const auto& n : names) {
     const double tv = truth ? get_parameter(*truth, n) : NAN;
     const double rv = reported ? get_parameter(*reported, n) : NAN;
@@ -214,8 +221,10 @@ int run_compare(Config& c, const AppOptions&) {
     char tvs[32] = "", rvs[32] = "";
     if (truth) std::snprintf(tvs, sizeof tvs, "%.6g", tv);
     if (reported) std::snprintf(rvs, sizeof rvs, "%.6g", rv);
-    std::printf("%-16s %11s %11s %24s %10s %9s\n", n.c_str(), tvs, rvs, learned_text, dev.c_str(), rel.c_str());
-    table.add_row(n, {tv, rv, has ? lv : NAN, se});
+    const std::string unit = parameter_unit(n, units);
+    std::printf("%-*s %11s %11s %24s %10s %9s%s\n", name_width, n.c_str(), tvs, rvs, learned_text, dev.c_str(), rel.c_str(),
+                print_units ? ("  " + unit).c_str() : "");
+    table.add_text_row(n, {tv, rv, has ? lv : NAN, se}, unit);
   }
   if (truth) {
     auto support = [](const TermList& terms) {

@@ -14,6 +14,7 @@
 #include "tools/table.hpp"
 #include "vehs/core/detail/format.hpp"
 #include "vehs/io/atomic_file.hpp"
+#include "vehs/io/parameter_units.hpp"
 
 namespace vehs::tools {
 
@@ -93,39 +94,14 @@ std::string params_text(const std::map<std::string, double>& params, const std::
 
 namespace {
 
-/// L^a T^b as text ("mm^2/s^3"), from the units block (the data's own units named when absent).
-std::string power_unit(int a, int b, const nlohmann::json& units, int input = 0) {
-  auto get = [&](const char* k, const char* fallback) {
-    return units.is_object() && units.contains(k) && units[k].is_string() ? units[k].get<std::string>() : std::string(fallback);
-  };
-  const std::string L = get("length", "length"), T = get("time", "time"), U = get("input", "input");
-  std::string num, den;
-  auto put = [](std::string& to, const std::string& name, int p) {
-    if (p == 0) return;
-    to += (to.empty() ? "" : "·") + name + (p > 1 ? "^" + std::to_string(p) : "");
-  };
-  put(a > 0 ? num : den, L, std::abs(a));
-  put(b > 0 ? num : den, T, std::abs(b));
-  put(input > 0 ? num : den, U, std::abs(input));
-  if (num.empty() && den.empty()) return "1";
-  if (den.find("·") != std::string::npos || den.find('/') != std::string::npos) den = "(" + den + ")";
-  return (num.empty() ? "1" : num) + (den.empty() ? "" : "/" + den);
-}
-
-/// The unit of a drift (acceleration) or diffusion (acceleration² · time) coefficient of `t`.
-std::string coefficient_unit(const Term& t, bool diffusion, const nlohmann::json& units) {
-  int a = diffusion ? 2 : 1, b = diffusion ? -3 : -2;
-  switch (t.kind) {
-    case TermKind::Monomial: a -= t.px + t.py, b += t.py; break;
-    case TermKind::YAbsY: a -= 2, b += 2; break;
-    case TermKind::Drive: {  // acceleration per unit of input
-      const std::string in = power_unit(0, 0, units, 1);
-      return "(" + power_unit(a, b, units) + ")/" + (in.find('/') != std::string::npos ? "(" + in + ")" : in);
-    }
-    case TermKind::SignY: break;
-    case TermKind::User: break;  // the expression's value read as dimensionless (as scaling.hpp does)
+/// The unit of a parameter by the tools' one rule (vehs/io/parameter_units.hpp); "-" for a name the
+/// rule cannot read (a label never stops the report).
+std::string unit_of(const std::string& name, const nlohmann::json& units) {
+  try {
+    return parameter_unit(name, units);
+  } catch (const Error&) {
+    return "-";
   }
-  return power_unit(a, b, units);
 }
 
 /// The standard error of a model parameter: from the model's maps, or its covariance.
@@ -149,17 +125,18 @@ ReportTable parameter_table(const Model& m, const nlohmann::json& units) {
   for (const auto& tc : m.drift)
     t.rows.push_back({"drift[" + tc.term.name() + "]", g(tc.coef, 6),
                       g(parameter_se(m, "drift[" + tc.term.name() + "]", m.drift_stderr, tc.term.name()), 2),
-                      coefficient_unit(tc.term, false, units)});
+                      unit_of("drift[" + tc.term.name() + "]", units)});
   for (const auto& tc : m.diffusion)
     t.rows.push_back({"diffusion[" + tc.term.name() + "]", g(tc.coef, 6),
                       g(parameter_se(m, "diffusion[" + tc.term.name() + "]", m.diffusion_stderr, tc.term.name()), 2),
-                      coefficient_unit(tc.term, true, units)});
+                      unit_of("diffusion[" + tc.term.name() + "]", units)});
   for (const auto& e : m.effects)
     for (const auto& [k, v] : e.params)
-      t.rows.push_back({e.name() + "." + k, g(v, 6), g(parameter_se(m, e.name() + "." + k, e.stderr_, k), 2), "-"});
+      t.rows.push_back({e.name() + "." + k, g(v, 6), g(parameter_se(m, e.name() + "." + k, e.stderr_, k), 2),
+                        unit_of(e.name() + "." + k, units)});
   if (m.fit && m.fit->likelihood && m.fit->likelihood->measurement_sd > 0)
     t.rows.push_back({"measurement_sd (sensor noise on x)", g(m.fit->likelihood->measurement_sd, 4),
-                      g(measurement_sd_se(*m.fit->likelihood), 2), power_unit(1, 0, units)});
+                      g(measurement_sd_se(*m.fit->likelihood), 2), unit_text({1, 0, 0}, units)});
   return t;
 }
 

@@ -3,10 +3,12 @@
 #include "tools/data_checks.hpp"
 
 #include <iostream>
+#include <map>
 #include <utility>
 
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
+#include "vehs/io/parameter_units.hpp"
 
 namespace vehs::tools {
 
@@ -157,26 +159,16 @@ nlohmann::ordered_json units_block(const Config& c) {
 }
 
 std::string with_unit(const std::string& label, const std::string& what, const nlohmann::json& units) {
-  auto get = [&](const char* k) -> std::string {
-    return units.is_object() && units.contains(k) && units[k].is_string() ? units[k].get<std::string>() : "";
-  };
-  const std::string L = get("length"), T = get("time"), U = get("input");
-  // without units: the data's own (non-dimensional) units, named
-  const std::string l = L.empty() ? "length" : L, t = T.empty() ? "time" : T;
-  std::string unit;
-  if (what == "x") unit = l;
-  if (what == "t") unit = t;
-  if (what == "v") unit = l + "/" + t;
-  if (what == "u") unit = U;
-  if (what == "f") unit = "1/" + t;
-  if (what == "b2") unit = l + "/" + t + "^2";
-  if (what == "a22") unit = l + "^2/" + t + "^3";
-  if (what == "v2") unit = l + "^2/" + t + "^2";
-  if (what == "1/x") unit = "1/" + l;
-  if (what == "psd_x") unit = l + "^2 " + t;
-  if (what == "x" && L.empty()) return label;  // x and v stay plain labels without units
-  if (what == "v" && L.empty() && T.empty()) return label;
-  return unit.empty() ? label : label + " [" + unit + "]";
+  auto has = [&](const char* k) { return units.is_object() && units.contains(k) && units[k].is_string(); };
+  static const std::map<std::string, Dimension> dimensions = {
+      {"x", {1, 0, 0}},    {"t", {0, 1, 0}},   {"v", {1, -1, 0}},  {"u", {0, 0, 1}},   {"f", {0, -1, 0}},
+      {"b2", {1, -2, 0}},  {"a22", {2, -3, 0}}, {"v2", {2, -2, 0}}, {"1/x", {-1, 0, 0}}, {"psd_x", {2, 1, 0}}};
+  const auto it = dimensions.find(what);
+  if (it == dimensions.end()) return label;
+  if (what == "u" && !has("input")) return label;  // the drive has no unit of its own to name
+  if (what == "x" && !has("length")) return label;  // x and v stay plain labels without units
+  if (what == "v" && !has("length") && !has("time")) return label;
+  return label + " [" + unit_text(it->second, units) + "]";  // the tables' rule (vehs/io/parameter_units.hpp)
 }
 
 std::string input_column_name(const Config& c) {

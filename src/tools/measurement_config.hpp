@@ -42,8 +42,9 @@ std::string input_column_name(const Config& c);
 /// The optional `units` block ({"length": "mm", "time": "s", "input": "V"}), checked; an empty
 /// object when absent.
 nlohmann::ordered_json units_block(const Config& c);
-/// An axis label with the unit of a quantity from a units block: `what` is "x", "v", "t", "u",
-/// "f" (frequency), "b2" (acceleration), "a22" (variance rate) or "" (no unit); "x [mm]".
+/// An axis label with the unit of a quantity from a units block, by the tables' rule
+/// (vehs/io/parameter_units.hpp): `what` is "x", "v", "t", "u", "f" (frequency), "b2"
+/// (acceleration), "a22" (variance rate), "v2", "1/x", "psd_x" or "" (no unit); "x [mm]".
 std::string with_unit(const std::string& label, const std::string& what, const nlohmann::json& units);
 
 }  // namespace vehs::tools

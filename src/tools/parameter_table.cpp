@@ -6,57 +6,25 @@
 
 #include "vehs/core/detail/format.hpp"
 #include "vehs/core/record_phases.hpp"
+#include "vehs/io/parameter_units.hpp"
 
 namespace vehs::tools {
 
 namespace {
 
-std::string unit_name(const nlohmann::json& units, const char* key, const char* fallback) {
-  if (units.is_object() && units.contains(key) && units[key].is_string()) return units[key].get<std::string>();
-  return fallback;
-}
-
-std::string factor(const std::string& name, int power) {
-  return power == 1 ? name : name + "^" + std::to_string(power);
-}
-
 std::string g(double v, int digits) { return std::isfinite(v) ? vehs::detail::format_number(v, digits) : "-"; }
 
 }  // namespace
 
-std::string unit_text(const Dimension& d, const nlohmann::json& units) {
-  const std::pair<std::string, int> parts[] = {{unit_name(units, "length", "length"), d.length},
-                                               {unit_name(units, "input", "input"), d.input},
-                                               {unit_name(units, "time", "time"), d.time}};
-  std::vector<std::string> num, den;
-  for (const auto& [name, power] : parts) {
-    if (power > 0) num.push_back(factor(name, power));
-    if (power < 0) den.push_back(factor(name, -power));
-  }
-  auto join = [](const std::vector<std::string>& v) {
-    std::string s;
-    for (const auto& f : v) s += (s.empty() ? "" : " ") + f;
-    return s;
-  };
-  if (den.empty()) return num.empty() ? "1" : join(num);
-  const std::string below = den.size() > 1 ? "(" + join(den) + ")" : join(den);
-  return (num.empty() ? "1" : join(num)) + "/" + below;
-}
-
-std::string parameter_unit(const std::string& name, const nlohmann::json& units) {
-  if (name == "harmonic_forcing.phase") return "rad";
-  return unit_text(parameter_dimension(name), units);
-}
-
 std::string parameter_table(const Model& m, const nlohmann::json& units, const std::string& indent) {
-  const auto params = physical_parameters(m);
+  const auto params = parameter_rows(m, units);
   const std::size_t phases = record_phases_of(m).size();
   struct Row {
     std::string name, value, se, unit, from;
   };
   std::vector<Row> rows = {{"parameter", "value", "stderr", "unit", "from"}};
-  for (const auto& p : params) {
-    Row r{p.name, g(p.value, 6), p.stderr_ ? g(*p.stderr_, 3) : "", parameter_unit(p.name, units), ""};
+  for (const auto& [p, unit] : params) {
+    Row r{p.name, g(p.value, 6), p.stderr_ ? g(*p.stderr_, 3) : "", unit, ""};
     if (!p.coefficient.empty() && p.coefficient != p.name)
       r.from = (p.sign < 0 ? "-" : "") + std::string(std::abs(p.sign) != 1.0 ? g(std::abs(p.sign), 3) + " " : "") +
                p.coefficient;

@@ -22,11 +22,19 @@ void Table::add_row(std::string label, std::vector<double> row) {
   labels.push_back(std::move(label));
 }
 
+void Table::add_text_row(std::string label, std::vector<double> row, std::string text) {
+  require(!text_column.empty(), "table has no text column");
+  require(texts.size() == rows.size(), "table mixes rows with and without text");
+  add_row(std::move(label), std::move(row));
+  texts.push_back(std::move(text));
+}
+
 std::string Table::to_csv(int precision) const {
   std::ostringstream os;
   const bool labelled = !label_column.empty();
   if (labelled) os << label_column << (columns.empty() ? "" : ",");
   for (std::size_t i = 0; i < columns.size(); ++i) os << (i ? "," : "") << columns[i];
+  if (!text_column.empty()) os << "," << text_column;
   os << "\n" << std::setprecision(precision);
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const auto& r = rows[k];
@@ -35,6 +43,7 @@ std::string Table::to_csv(int precision) const {
       if (i) os << ',';
       if (std::isfinite(r[i])) os << r[i];  // a missing value is an empty cell, never "nan"
     }
+    if (!text_column.empty()) os << "," << texts[k];
     os << "\n";
   }
   return os.str();

@@ -87,9 +87,10 @@ TEST_CASE("diagnose-vehs end to end: contract JSON, report in Chromium, history 
     CHECK(top.find("<code>identify-vehs " + refit.string() + "</code>") != std::string::npos);
     CHECK(top.find("<th>standard error</th>") != std::string::npos);
     CHECK(page.find("Where the model fails") != std::string::npos);
-    REQUIRE(vehs_tool_test::run_identify({refit.string(), "-q"}) == 0);
+    // identify-vehs --refit <diagnosis>: runs the config its refit_file names, no hand merge
+    REQUIRE(vehs_tool_test::run_identify({"--refit", (dir / "out1.json").string(), "-q"}) == 0);
     const auto refitted = read_json((dir / "report" / "refit_model.json").string());
-    CHECK(refitted["drift"].contains("sign(y)"));
+    CHECK(refitted["drift"].contains("sign(y)"));  // coulomb_friction, the recommended effect
   }
   // version 2 is the true model form: its "adequate" is a null check, at α = 5e-5 (false failure
   // per run if the p-values are valid; the calibration tests measure them at 1 %). Version 1's

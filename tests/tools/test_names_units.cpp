@@ -9,6 +9,7 @@
 
 #include "../identify/identify_fixtures.hpp"
 #include "tools/parameter_table.hpp"
+#include "vehs/io/parameter_units.hpp"
 #include "tool_runs.hpp"
 #include "vehs/io/model_file.hpp"
 
@@ -41,7 +42,7 @@ std::string line_of(const std::string& text, const std::string& name) {
 
 TEST_CASE("parameter units are derived from the term's powers and the data's units", "[tools][units]") {
   const nlohmann::json mm_s = {{"length", "mm"}, {"time", "s"}, {"input", "V"}};
-  using vehs::tools::parameter_unit;
+  using vehs::parameter_unit;
   CHECK(parameter_unit("beta", mm_s) == "1/s");
   CHECK(parameter_unit("k1", mm_s) == "1/s^2");
   CHECK(parameter_unit("k3", mm_s) == "1/(mm^2 s^2)");
@@ -51,6 +52,12 @@ TEST_CASE("parameter units are derived from the term's powers and the data's uni
   CHECK(parameter_unit("drift[u]", mm_s) == "mm/(V s^2)");
   CHECK(parameter_unit("harmonic_forcing.phase", mm_s) == "rad");
   CHECK(parameter_unit("beta", nlohmann::json::object()) == "1/time");
+  // a compound input unit (a base acceleration) stays one unit inside the product
+  const nlohmann::json accel = {{"length", "mm"}, {"time", "s"}, {"input", "m/s^2"}};
+  CHECK(parameter_unit("drift[u]", accel) == "(mm/s^2)/(m/s^2)");
+  CHECK(vehs::unit_text({0, -2, -1}, accel) == "(1/s^2)/(m/s^2)");
+  CHECK(vehs::unit_text({0, 0, 1}, accel) == "m/s^2");
+  CHECK(vehs::unit_text({0, 0, -1}, accel) == "1/(m/s^2)");
 }
 
 TEST_CASE("identify-vehs prints friction as coulomb_friction.mu with units and fpk-stationary sweeps mu",
