@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tools/parameter_table.hpp"
+#include "vehs/io/parameter_units.hpp"
 #include "vehs/core/model.hpp"
 
 namespace vehs::tools {
