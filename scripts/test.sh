@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs missing dependencies, builds, and runs the whole test suite: ctest over Catch2, then the
 # Python package's pytest suite (python/tests) in a virtual environment kept in the build folder.
+# The longest statistical checks (CTest label "long") run with scripts/test-long.sh instead.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${VEHS_BUILD_DIR:-$root/build}"
@@ -15,7 +16,7 @@ cd "$build"
 # cores from the working ones (measured, fresh ctest order: suite 4m09 with spinning waits, 3m10 with
 # passive ones)
 export OMP_WAIT_POLICY=PASSIVE
-ctest -j "$(nproc)" --output-on-failure --timeout 900
+ctest -j "$(nproc)" --output-on-failure --timeout 900 -LE long
 # The package into the venv with pip (scikit-build-core), reusing this build folder: only the
 # extension module is (re)linked; the tools and test settings of the build are kept.
 "$python" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps --force-reinstall \

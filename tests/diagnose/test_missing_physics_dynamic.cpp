@@ -29,7 +29,7 @@ TEST_CASE("missing physics loop: harmonic_forcing hidden in a bistable harvester
 }
 
 TEST_CASE("missing physics loop: electromechanical_coupling hidden in a monostable harvester",
-          "[diagnose][missing_physics]") {
+          "[diagnose][missing_physics][long]") {
   std::mt19937_64 g(vehs_test::seed(83));
   // Weakly identifiable against damping and stiffness: most of its force looks like extra
   // damping and stiffness, only the frequency dependence tells it apart. Over random draws

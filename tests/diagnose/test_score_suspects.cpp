@@ -73,7 +73,7 @@ TEST_CASE("score suspects: nothing is claimed on data from the baseline's own fa
 // (the likelihood refitted with the friction): score and Wald z differ by O(z²/√n), measured
 // 0.995× and 0.994× (two sizes), so the check fails only for a broken score test.
 TEST_CASE("score suspects: a hidden effect is named first and significant, z near the oracle's",
-          "[diagnose][score_suspects]") {
+          "[diagnose][score_suspects][long]") {
   for (const std::string name :
        {"coulomb_friction", "colored_noise", "electromechanical_coupling", "harmonic_forcing_per_record"}) {
     HiddenCase hc = ci_size(case_named(name));

@@ -106,7 +106,7 @@ TEST_CASE("suspects: hidden harmonic forcing is ranked first and significant",
 }
 
 TEST_CASE("suspects: hidden impact stops are ranked first and significant",
-          "[diagnose][suspects][dynamic]") {
+          "[diagnose][suspects][dynamic][long]") {
   std::mt19937_64 g(seed(72));
   Model truth = hidden_effect_potential("monostable");
   const Effect e = draw_impact_stop(truth, g);  // gaps at a random upper quantile of |x| without stops

@@ -106,7 +106,7 @@ void write_record(const fs::path& file, std::size_t n, std::uint64_t seed) {
 }  // namespace
 
 TEST_CASE("identify figure: binned diffusion without sensor noise and velocity bins without the input",
-          "[tools][figure][slow]") {
+          "[tools][figure][long]") {
   const fs::path dir = fs::path(VEHS_BINARY_DIR) / "identify_figure_test";
   fs::remove_all(dir);
   fs::create_directories(dir);

@@ -335,7 +335,7 @@ TEST_CASE("identify-vehs with the likelihood: a diverging filter leaves the mome
 //    (from three starts of λ: hidden_state_starts.hpp; from the moment start alone the fit ran
 //    along the (κ, λ) ridge out of the domain).
 TEST_CASE("identify-vehs never writes a model simulate-vehs refuses: an estimate outside the catalogue's domain is "
-          "refused with one line naming it", "[tools][likelihood][effects][silverbox]") {
+          "refused with one line naming it", "[tools][likelihood][effects][silverbox][long]") {
   const fs::path dir = work_dir();
   const fs::path out = dir / "domain_model.json";
   auto refused = [&](const std::vector<std::string>& args, const std::vector<std::string>& mentions) {

@@ -94,7 +94,7 @@ TEST_CASE("identify-vehs on a logger CSV in mm and s: units, covariance, finite 
   CHECK(std::abs(z("1", L_mm * L_mm / std::pow(T_s, 3), true)) < 5.5);
 }
 
-TEST_CASE("identify-vehs on the Silverbox data (volts) writes a model the other tools accept", "[tools][units][silverbox]") {
+TEST_CASE("identify-vehs on the Silverbox data (volts) writes a model the other tools accept", "[tools][units][silverbox][long]") {
   const fs::path dir = fs::temp_directory_path() / "vehs_user_data_silverbox";
   fs::remove_all(dir);
   fs::create_directories(dir);
