@@ -6,10 +6,9 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
-#include <optional>
 #include <string_view>
 
-#include "vehs/effects/unit_powers.hpp"
+#include "vehs/effects/param.hpp"
 
 namespace vehs::effects {
 
@@ -20,14 +19,7 @@ struct HarmonicForcing {
   static constexpr std::string_view name = "harmonic_forcing";
   static constexpr std::string_view physics = "force amplitude·cos(omega·t + phase)";
 
-  struct Param {
-    std::string_view name, meaning;
-    double lower_bound;
-    bool strictly_positive;
-    std::optional<double> default_value;
-    UnitPowers unit;
-    T HarmonicForcing::*member;
-  };
+  using Param = effects::Param<HarmonicForcing, T>;
   static inline const std::array<Param, 3> params{{
       {"amplitude", "forcing amplitude", 0.0, false, std::nullopt, {1, -2}, &HarmonicForcing::amplitude},
       {"omega", "angular frequency", 0.0, true, std::nullopt, {0, -1}, &HarmonicForcing::omega},

@@ -8,11 +8,10 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
-#include <optional>
 #include <string_view>
 
+#include "vehs/effects/param.hpp"
 #include "vehs/effects/piecewise.hpp"
-#include "vehs/effects/unit_powers.hpp"
 #include "vehs/likelihood/detail/gaussian_expectations.hpp"
 
 namespace vehs::effects {
@@ -25,14 +24,7 @@ struct ImpactStop {
   static constexpr std::string_view physics =
       "end stops: force −k_stop·(x − gap) for x > gap and −k_stop·(x + gap_neg) for x < −gap_neg";
 
-  struct Param {
-    std::string_view name, meaning;
-    double lower_bound;
-    bool strictly_positive;
-    std::optional<double> default_value;
-    UnitPowers unit;
-    T ImpactStop::*member;
-  };
+  using Param = effects::Param<ImpactStop, T>;
   static inline const std::array<Param, 3> params{{
       {"k_stop", "stiffness of the stops", 0.0, true, std::nullopt, {0, -2}, &ImpactStop::k_stop},
       {"gap", "distance from x = 0 to the positive stop", 0.0, true, std::nullopt, {1, 0}, &ImpactStop::gap},
