@@ -13,16 +13,13 @@
 #include <string>
 #include <vector>
 
+#include "read_text.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using vehs_test::slurp;
 
 /// The text with comments, string and character literals blanked (newlines kept).
 std::string code_only(const std::string& s) {

@@ -8,18 +8,14 @@
 #include <string>
 
 #include "../diagnose/diagnose_fixtures.hpp"
+#include "read_text.hpp"
 #include "tools/diagnosis_report.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using vehs_test::slurp;
 
 /// An inadequate result whose held-out split was set aside with a huge z on one effect, while a
 /// score test claims another (the piezo rig: electromechanical_coupling z 61.5 set aside).

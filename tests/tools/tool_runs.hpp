@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "read_text.hpp"
 #include "tools/tools.hpp"
 
 namespace vehs_tool_test {
@@ -20,12 +21,7 @@ inline std::filesystem::path work_dir(const std::string& name) {
 }
 
 /// The whole text of a file ("" when it cannot be read).
-inline std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using vehs_test::slurp;
 
 /// identify-vehs with `args`; its exit status, stderr into `err` (when given).
 inline int run_identify(const std::vector<std::string>& args, std::string* err = nullptr) {
