@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs missing dependencies, builds, and runs the whole test suite: ctest over Catch2, then the
 # Python package's pytest suite (python/tests) in a virtual environment kept in the build folder.
-# The longest statistical checks (CTest label "long") run with scripts/test-long.sh instead.
+# The longest checks (CTest label "long", pytest marker "long") run with scripts/test-long.sh instead.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${VEHS_BUILD_DIR:-$root/build}"
@@ -17,10 +17,7 @@ cd "$build"
 # passive ones)
 export OMP_WAIT_POLICY=PASSIVE
 ctest -j "$(nproc)" --output-on-failure --timeout 900 -LE long
-# The package into the venv with pip (scikit-build-core), reusing this build folder: only the
-# extension module is (re)linked; the tools and test settings of the build are kept.
-"$python" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps --force-reinstall \
-  --config-settings=build-dir="$build" --config-settings=cmake.define.VEHS_BUILD_TESTS=ON --config-settings=cmake.define.VEHS_BUILD_BENCH=ON \
-  --config-settings=cmake.define.Python_EXECUTABLE="$python" "$root/python"
+python="$("$root/scripts/python-install.sh" "$build")"
 cd "$root"
-VEHS_BIN_DIR="$build" VEHS_REQUIRE_CLI=1 "$python" -m pytest -q -p no:cacheprovider "$root/python/tests"
+# the Python tests marked long (the paper pipeline example) run with scripts/test-long.sh
+VEHS_BIN_DIR="$build" VEHS_REQUIRE_CLI=1 "$python" -m pytest -q -p no:cacheprovider -m "not long" "$root/python/tests"

@@ -3,7 +3,10 @@ import os
 import subprocess
 import sys
 
+import pytest
 
+
+@pytest.mark.long
 def test_paper_pipeline_runs(repo, tmp_path):
     proc = subprocess.run([sys.executable, str(repo / "examples/python/paper_pipeline.py"), "--quick",
                            "--out", str(tmp_path)], capture_output=True, text=True, cwd=repo,

@@ -41,9 +41,9 @@ def python_run(repo, tmp_path_factory):
     report = tmp_path_factory.mktemp("quickstart") / "py_report"
     records = vehs.read(measurement=str(repo / "examples/quickstart/shaker.json"), data=[
         str(repo / "examples/quickstart/shaker.csv")])
-    first, _ = vehs.identify(records, units=UNITS, likelihood={"use": "always"})
+    first, _ = vehs.identify(records, likelihood={"use": "always"})  # units from shaker.json
     d = vehs.diagnose(first, records, report=str(report))
-    refit, _ = vehs.identify(records, units=UNITS, **d.result["refit_config"])
+    refit, _ = d.refit(records)
     again = vehs.diagnose(refit, records)
     p = vehs.power(refit, records, harvester={"electrical_damping": CE}, seed=1)
     return dict(first=first, diagnosis=d, refit=refit, again=again, power=p)
@@ -51,6 +51,18 @@ def python_run(repo, tmp_path_factory):
 
 def test_the_input_enters_the_model_by_default(python_run):
     assert "u" in python_run["first"].to_dict()["drift"]
+
+
+def test_the_models_carry_the_measurement_files_units(python_run):
+    for name in ("first", "refit"):
+        units = python_run[name].to_dict()["units"]
+        assert {k: units[k] for k in UNITS} == UNITS, name
+
+
+def test_a_diagnosis_without_a_refit_says_so():
+    d = vehs.Diagnosis(verdict="adequate", score=0.5, suspects=[], report=None, result={"refit_config": None})
+    with pytest.raises(vehs.Error, match=r"recommends no refit"):
+        d.refit([0.0, 1.0, 0.0], dt=0.1)
 
 
 def test_diagnose_names_the_hidden_friction_and_the_refit_is_adequate(python_run):

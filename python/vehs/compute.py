@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _vehs
+from ._vehs import Error
 from .model import Model
 from .options import options_json
 from .records import Records, as_records
@@ -87,8 +88,12 @@ def identify(x, dt=None, u=None, progress=None, options=None, **keys):
     as keyword arguments (estimator, drift_library, diffusion_library, effects, sparsity,
     criterion, ...). The fit is identify-vehs's (vehs::fit): the same records give the same model,
     bitwise. The model carries the report sections, so ``model.save(path)`` writes what
-    identify-vehs writes (without its data/provenance)."""
+    identify-vehs writes (without its data/provenance). Records read by :func:`vehs.read` with
+    ``units`` (given or from the measurement file) give the model those units unless ``units`` is
+    given here."""
     if options is None:
+        if isinstance(x, Records) and x.units and "units" not in keys:
+            keys["units"] = x.units
         options = FitOptions(**keys)
     elif keys:
         raise TypeError("vehs.identify: give options=FitOptions(...) or keyword options, not both")
@@ -166,11 +171,31 @@ def sweep(model, sweep, grid=None, progress=None, **options):
 
 @dataclass
 class Diagnosis:
+    """What :func:`diagnose` found: ``verdict``, ``score``, ``suspects`` (what it recommends
+    first, see :func:`ranked_suspects`), the HTML ``report`` path and the whole ``result`` (the
+    diagnosis file diagnose-vehs writes)."""
+
     verdict: str
     score: float
     suspects: list
     report: str
     result: dict = field(repr=False)
+    units: dict = field(repr=False, default=None)  # the diagnosed model's units, kept by refit
+
+    def refit(self, x, dt=None, u=None, progress=None, **keys):
+        """The refit this diagnosis recommends (identify-vehs --refit): :func:`identify` on the
+        records with ``result["refit_config"]`` (the model's terms and effects plus the named
+        ones) and the diagnosed model's units; keyword options given here win. Raises
+        :class:`vehs.Error` when the diagnosis recommends no refit."""
+        config = self.result.get("refit_config")
+        if not config:
+            raise Error(f"vehs.Diagnosis.refit: the diagnosis ({self.verdict}) recommends no refit "
+                        f"(its refit_config is null)")
+        options = dict(config)
+        if self.units and "units" not in keys and not getattr(x, "units", None):
+            options["units"] = self.units
+        options.update(keys)
+        return identify(x, dt, u, progress, **options)
 
 
 def diagnose(model, x, dt=None, u=None, report=None, label="model", progress=None, **options):
@@ -182,7 +207,7 @@ def diagnose(model, x, dt=None, u=None, report=None, label="model", progress=Non
                                 "" if report is None else str(report), label, progress)
     result = json.loads(text)
     return Diagnosis(verdict=result["verdict"], score=result["score"], suspects=ranked_suspects(result),
-                     report=html or None, result=result)
+                     report=html or None, result=result, units=model.to_dict().get("units"))
 
 
 _STATUS_ORDER = {"recommended": 0, "significant": 1, "not significant": 2, "set aside": 3}
