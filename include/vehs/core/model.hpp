@@ -13,7 +13,7 @@
 
 namespace vehs {
 
-/// The effect catalogue of docs/model-file.md#effects.
+/// The effect catalogue (docs/reference/effects.md).
 enum class EffectId {
   AsymmetricStiffness,        ///< even powers of x in the restoring force (term-like)
   CoulombFriction,            ///< −μ·sign(y) (term-like)

@@ -30,7 +30,7 @@ class ModelBuilder {
   ModelBuilder& drift(std::string_view term, double coef);
   /// Adds the diffusion term `term` (a22; not u or sign(y)).
   ModelBuilder& diffusion(std::string_view term, double coef);
-  /// Sets a parameter by physical name (beta, k<i>, 2D, 2Q, D, Q, drift[..], diffusion[..]).
+  /// Sets a parameter by physical name (beta, k`<i>`, 2D, 2Q, D, Q, drift[..], diffusion[..]).
   ModelBuilder& parameter(const std::string& name, double value);
   /// Adds an effect of the catalogue by name; missing parameters take their defaults or are an
   /// error. Term-like effects become their terms.

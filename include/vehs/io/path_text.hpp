@@ -11,7 +11,7 @@ namespace vehs {
 /// byte 9").
 std::string path_text_problem(const std::string& path);
 
-/// `path` for messages: control characters shown as \xNN.
+/// `path` for messages: control characters shown as `\xNN`.
 std::string escaped_path(const std::string& path);
 
 /// Throws vehs::Error "<where>: <path_text_problem>" when `path` holds a control character.
