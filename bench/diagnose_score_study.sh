@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 13's power study, one hidden case at a time (data/diagnose/README.md, "The study over
+# Issue 13's power study, one hidden case at a time (bench/results/diagnose_calibration_log.md, "The study over
 # seeds"): nice 10, one thread, the log in out/score_study/CASE.seedsK-N.log, the CPU seconds
 # and the load average at the end.
 #   bench/diagnose_score_study.sh CASE [SEEDS [SEED0]]     e.g. bench/diagnose_score_study.sh impact_stop 10

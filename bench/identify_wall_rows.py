@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """identify's moment fit on pentastable records with a y^2 diffusion (issue 13, the
-velocity_dependent_noise loop; data/diagnose/README.md): rare velocity bursts carry x into the x^9
+velocity_dependent_noise loop; bench/results/diagnose_calibration_log.md): rare velocity bursts carry x into the x^9
 wall, where the ULI lens's expansion in h does not hold (omega*h up to ~10). Over seeds, the true
 library's estimates of beta, 2D, q_y2 and the x^7, x^9 coefficients as z against the truth
 (mean, sd, worst seed), the rows the fit left out, and diagnose's verdict on the fitted model

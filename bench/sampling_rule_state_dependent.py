@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """identify's sampling rule on pentastable records with a y^2 diffusion (issue 13, the
-velocity_dependent_noise loop; data/diagnose/README.md): over seeds, the noise share eta the rule
+velocity_dependent_noise loop; bench/results/diagnose_calibration_log.md): over seeds, the noise share eta the rule
 reads from noise-free records (and how often it calls them noisy), then the sensor sd the noisy
 estimator reads at stride 3 with 2 % white noise, against the truth. 32 records x 4000 samples at
 dt 0.05, Taylor 1.5 with 20 substeps (as tests/diagnose/score_fixtures.hpp samples them).

@@ -86,7 +86,7 @@ struct UnitStats {
   // log of the MEAN of R twins is not comparable with it: by Jensen it exceeds the log of one
   // replicate by about ½·CV²·(1 − 1/R), a bias that the paired tests see at many units (an
   // adequate model judged inadequate at 288 records, acf p 8e-8 with 2 twins, 7e-28 with 8;
-  // data/diagnose/README.md)
+  // bench/results/diagnose_calibration_log.md)
   std::vector<std::vector<double>> rpsd_each, xpsd_each;
   std::vector<double> log_msx_each, log_msv_each;
   // x ACF (normalised per record span), summed over replicates

@@ -2,7 +2,7 @@
 // Internal: the rows the ULI lens can read. Its expansion in h holds where the drift's stiffness
 // ω·h = √|∂b/∂x|·h is small; a y² diffusion's rare velocity bursts carry x into a stiff wall
 // (ω·h up to ≈ 10 on the pentastable x⁹ potential), where the lens's error is a smooth force of a
-// few samples that pulls every moment it enters (issue 13, data/diagnose/README.md). The rows
+// few samples that pulls every moment it enters (issue 13, bench/results/diagnose_calibration_log.md). The rows
 // whose stencil reaches there are left out: of the sampling rule's lag statistics
 // (standardized_moments) and of the drift and diffusion passes of a state-dependent diffusion.
 #include <cstddef>

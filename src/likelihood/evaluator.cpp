@@ -33,7 +33,7 @@ int automatic_substeps(const Structure& st, const Coefficients<double>& c, const
   // the whole range of x in the data: the stiffest drift (x⁹ of a penta-stable potential) sits at
   // the rarest extremes, and RK4 steps sized from the 0.5–99.5 % quantiles left the moment
   // equations' stability region there (the filter "left the model's domain" on the baseline in
-  // 4 of 10 seeds of the velocity_dependent_noise study, data/diagnose/README.md)
+  // 4 of 10 seeds of the velocity_dependent_noise study, bench/results/diagnose_calibration_log.md)
   const auto [lo_it, hi_it] = std::minmax_element(data.x.begin(), data.x.end());
   const double xmin = *lo_it, xmax = *hi_it;
   double vy = 0.0;

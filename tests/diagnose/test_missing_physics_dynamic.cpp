@@ -48,7 +48,7 @@ TEST_CASE("missing physics loop: colored_noise hidden in a bistable harvester", 
   run_loop({effect("colored_noise", {{"tau", tau}, {"intensity", intensity}}), bistable()}, 8401);
 }
 
-// The figures of data/diagnose/README.md over random draws (not in CI, 20–35 s per draw):
+// The figures of bench/results/diagnose_calibration_log.md over random draws (not in CI, 20–35 s per draw):
 //   VEHS_MP_DRAWS=electromechanical_coupling|colored_noise [VEHS_MP_N=6] [VEHS_MP_WEAK=1]
 //   build/tests/test_diagnose "[explore_draws]"
 // Draw s: parameters from mt19937_64(1000 + s) (λ in [0.6, 1.4], coupling in [0.6, 1.0] — with

@@ -143,7 +143,7 @@ void tally_diagnosis(const std::string& label, const nlohmann::json& j, const st
 //  * friction: coulomb_friction's held-out z 9.3 ± 1.5 (6.5 … 11.9) against the threshold 2,
 //    P ≈ Φ(−4.9) ≈ 5e-7; it must come first (largest held-out gain). A look-alike is confirmed
 //    beside it in 3 of 20 seeds (nonlinear_damping beyond coulomb_friction at z > 2 over 8
-//    pieces): not checked, reported in data/diagnose/README.md. Before the joint confirmation
+//    pieces): not checked, reported in bench/results/diagnose_calibration_log.md. Before the joint confirmation
 //    (confirmation.hpp) this seed also recommended nonlinear_damping and velocity_dependent_noise.
 // Cost ≈ 11 CPU s (three identify-vehs + diagnose-vehs runs of 64 000 samples).
 TEST_CASE("diagnose-vehs outside the catalogue: impulsive excitation named as such, a hidden friction still named",

@@ -4,7 +4,7 @@
 // ½·CV²·(1 − 1/R): invisible at a few records, decisive at many. On the study's 288 records of
 // the hidden electrical state (issue 13), the TRUE model with 8 twins per record was judged
 // inadequate with acf p 7e-28 and power p 1.3e-4 (2 twins: acf p 8e-8; 4 of 20 seeds inadequate,
-// data/diagnose/README.md). Now acf p 0.0013, power p 0.027, residual_spectrum p 0.24.
+// bench/results/diagnose_calibration_log.md). Now acf p 0.0013, power p 0.027, residual_spectrum p 0.24.
 #include <catch2/catch.hpp>
 
 #include <string>

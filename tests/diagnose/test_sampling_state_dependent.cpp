@@ -53,7 +53,7 @@ TEST_CASE("sampling diagnosis: noise-free pentastable records with a y^2 diffusi
   const Dataset d = score_test::hidden_data(hc, 101);
 
   // identify's sampling rule with the true library. Over 60 seeds (200–259, through the Python
-  // binding, data/diagnose/README.md) η 0.0067 ± sd 0.0104 (max 0.036), and over 40 seed shifts of
+  // binding, bench/results/diagnose_calibration_log.md) η 0.0067 ± sd 0.0104 (max 0.036), and over 40 seed shifts of
   // this test (JOBS=1 scripts/seed-study.sh 40 build/tests/test_diagnose "[state_dependent]")
   // 0.0067 ± 0.0139 (max 0.063); before the fix η 0.18 ± 0.26 and "noisy" in 25 of 60. The rule's
   // own standard error of η is 6√2/√rows ≈ 0.024 here (it calls data noisy at 3 of them, so its

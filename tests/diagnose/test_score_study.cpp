@@ -1,4 +1,4 @@
-// Issue 13's study of the score-test suspects over seeds (a hidden bench, data/diagnose/README.md
+// Issue 13's study of the score-test suspects over seeds (a hidden bench, bench/results/diagnose_calibration_log.md
 // "The study over seeds"): for every hidden-effect case of score_fixtures.hpp and seeds 100 + k,
 //  * power: the baseline's score suspects — the hidden effect named first and significant (alone,
 //    or with a look-alike it is not resolved from), any claim, the suspect's z beside the

@@ -115,7 +115,7 @@ TEST_CASE("score suspects: a hidden effect is named first and significant, z nea
 // z ≈ 3.6, so a miss is ≥ 8 SD away; a wrong first needs a margin below 0: 5.9, 5.5, 6.1 and 4.4
 // SD (normal fits; P 2e-9, 2e-8, 5e-10, 5e-6): false failure ≤ 6e-6 per run. No look-alike
 // group holds a forcing, so a significant first forcing is named alone. The study size (32 ×
-// 4000, amplitude 0.05): data/diagnose/README.md, "Slow forcing among the hidden-state look-alikes".
+// 4000, amplitude 0.05): bench/results/diagnose_calibration_log.md, "Slow forcing among the hidden-state look-alikes".
 TEST_CASE("score suspects: a slow forcing is named first, ahead of the hidden states",
           "[diagnose][score_suspects][slow_forcing]") {
   for (const std::string name : {"harmonic_forcing_slow", "harmonic_forcing_per_record_slow"}) {

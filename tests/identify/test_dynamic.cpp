@@ -116,7 +116,7 @@ TEST_CASE("dynamic effects: impact stops (stiffness and both gaps) on two potent
 // 1.5x the sandwich standard error at 64 records (lambda z = +2.1, -1.7, -0.6 and coupling z =
 // +2.0, -0.8, +0.1 over three seeds), and one draw stays 3.3 SE off at 160 records — the
 // standard errors of this weakly identified effect under-cover there (well hopping; see
-// data/identify/README.md).
+// docs/studies/dynamic-effects.md).
 TEST_CASE("dynamic effects: electromechanical coupling (time constant and coupling) from x alone",
           "[identify][dynamic][electro]") {
   const std::string pot = "monostable";

@@ -44,7 +44,7 @@ TEST_CASE("sampling rule: white sensor noise is read at lag 2k against lag 3k, a
 
 TEST_CASE("sampling rule: scheme-consistent data read their noise from lags k and 2k together",
           "[identify][sampling]") {
-  // the calibration matrix's 200 x 1000 scheme data, seed 5 (data/diagnose/README.md): a
+  // the calibration matrix's 200 x 1000 scheme data, seed 5 (bench/results/diagnose_calibration_log.md): a
   // 3-sigma excess at lag 2k with nothing at lag k. Lag 2k alone read 5.9 % sensor noise; white
   // noise of that share would have put -0.039 at lag k.
   auto r = identify::sampling_rule(0.0002, 0.0027, -0.0070, 2.0e5);

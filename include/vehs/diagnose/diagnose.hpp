@@ -15,7 +15,7 @@
 //     are simulated so, whatever the data's sampling diagnosis reads. Every component below
 //     compares data with twins through the same lens, so an expansion in Δt in the lens (the
 //     whitening variance c·a22/h, the kinematics) is a choice of statistic, not an approximation
-//     of the test: the calibration holds at coarse sampling (data/diagnose/README.md).
+//     of the test: the calibration holds at coarse sampling (bench/results/diagnose_calibration_log.md).
 //     Dynamic effects are simulated with the twins: harmonic forcing in the records' absolute
 //     time (t0 of each record), the electrical state from 0 and the coloured excitation from its
 //     stationary law at every record's start (as vehs::sim does). For a model with dynamic

@@ -35,7 +35,7 @@
 // past absorbs ANY slowly varying force the model lacks — a hidden electromechanical state, a
 // forcing line, a stop — so on held-out one-step evidence colored_noise can outscore the force
 // that is really there (measured on data with a hidden electromechanical state: 229.9 vs 225.1
-// nats in the CI loop's data, and it led in 1 of 6 random draws; data/diagnose/README.md). When the model is inadequate, one of colored_noise and the
+// nats in the CI loop's data, and it led in 1 of 6 random draws; bench/results/diagnose_calibration_log.md). When the model is inadequate, one of colored_noise and the
 // deterministic dynamic forces (impact_stop, harmonic_forcing, electromechanical_coupling) leads
 // and is held-out significant, and the other kind is a close contender (positive evidence, not
 // below the leader's by 2 paired standard errors over the blocks), diagnose refits the model

@@ -80,7 +80,7 @@
 // 8 × 400 s): |z| ≤ 1.84 for τ, ≤ 1.37 for intensity, drift and diffusion terms within 2.64 SE
 // in 19 of 20 (one damping at 3.44). Known weakness: with short τ and a strong excitation
 // (τ = 0.25, intensity ≈ 2·a22) the intensity under-covers (3 of 16 below z = −2.3, down to
-// −3.35) — see data/identify/README.md.
+// −3.35) — see docs/studies/dynamic-effects.md.
 // Not handled: sensor noise (noisy estimator), forward kinematics, combination with stops /
 // forcing / electromechanical coupling, held-fixed params of term-like effects.
 #include <cstddef>

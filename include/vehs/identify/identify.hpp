@@ -158,7 +158,7 @@ struct Options {
 /// 1.60/√rows instead of 8.5/√rows, and a lag-2k excess that lag k contradicts is not read as
 /// noise. With lag 2k alone a 3-sigma excess at lag 2k (d_2k = 0.0097 on 2·10⁵ rows, ρ_k ≈ 0)
 /// read as 5.9 % sensor noise and the true model's diagnosis failed every residual component
-/// (data/diagnose/README.md, calibration matrix: 200 × 1000, seed 5).
+/// (bench/results/diagnose_calibration_log.md, calibration matrix: 200 × 1000, seed 5).
 struct SamplingRule {
   double noise_share = 0.0;
   bool noisy = false, continuous = false;
