@@ -13,7 +13,12 @@
       exist, and a link's #anchor into a Markdown page (or within the page) names one of that page's
       headings (GitHub's and MyST's slug: myst_heading_anchors in docs/site/conf.py); no file refers to contracts.md (its content is in docs/); every identifier that
       docs/library.md's "Using the library" table names is declared in include/vehs/; README.md
-      is a guide of at most 250 lines (the studies live in docs/).
+      is a guide of at most 250 lines (the studies live in docs/); and README.md, docs/**/*.md
+      (but docs/reference/) and data/*/README.md are written for a reader, not as a lab notebook:
+      no ISO date, day-month-year date, clock time with UTC, machine load ("load 5", "load ≈ 4"),
+      "Round N" or "session" (the history scanner checks itself on known lines first).
+  check_docs.py history SOURCE_DIR
+      The history scan alone.
 Exit status 0 when everything matches, else 1 with one line per problem.
 """
 import os
@@ -233,11 +238,69 @@ def check_readme_names(source):
     return problems
 
 
+HISTORY = [
+    (re.compile(r"\b20\d\d-\d\d-\d\d\b"), "an ISO date"),
+    (re.compile(r"\b\d{1,2} (?:Jan|Feb|Mar|Apr|May|Jun|Jul|Aug|Sep|Oct|Nov|Dec)[a-z]*\.? 20\d\d\b"), "a date"),
+    (re.compile(r"\b\d{1,2}:\d\d\s*(?:[–-]\s*(?:\d{1,2}:\d\d\s*)?)?UTC\b"), "a clock time (UTC)"),
+    (re.compile(r"\bloads?\s*(?:[≈~]|\d)", re.IGNORECASE), "a machine load"),
+    (re.compile(r"\bround\s+\d+\b", re.IGNORECASE), "a numbered round"),
+    (re.compile(r"\bsessions?\b", re.IGNORECASE), "a session"),
+]
+HISTORY_BAD = ["Measured 2026-11-21 with OpenBLAS", "Round 8 (24 Nov 19:10-21:01 UTC, nice 19",
+               "**Round 14 (25 Nov 12:00– UTC):", "10.7 s under load 5 on 2 cores", "(load ≈ 4; full output",
+               "load ~ 4", "stopped at the session's end", "checked on 24 Nov 2026 with fits from the truth"]
+HISTORY_GOOD = ["10⁶ samples in 5.41 s wall on 2 threads", "the records are loaded once (load time 0.13 s)",
+                "repeated (at most 3 rounds)", "round-off of 1e-16", "Python session objects are not kept",
+                "x0 uniform in [−1.5, 1.5], Δt = 0.001", "at 12:00 on the clock", "2 cores, 10 s"]
+
+
+def history_hits(line):
+    """What in a line reads as lab-notebook history: [(kind, matched text)]."""
+    hits = [(kind, m.group(0)) for pattern, kind in HISTORY for m in [pattern.search(line)] if m]
+    if re.search(r"\bsessions?\b", line, re.IGNORECASE) and re.search(r"\bPython session", line):
+        hits = [h for h in hits if h[0] != "a session"]  # an interpreter's session is not history
+    return hits
+
+
+def history_self_test():
+    """The scanner must flag every known bad line and pass every known good one."""
+    problems = [f"check_docs.py: the history scanner misses {line!r}" for line in HISTORY_BAD if not history_hits(line)]
+    problems += [f"check_docs.py: the history scanner flags {line!r} ({history_hits(line)})"
+                 for line in HISTORY_GOOD if history_hits(line)]
+    return problems
+
+
+def history_files(source):
+    files = [os.path.join(source, "README.md")]
+    for root, dirs, names in os.walk(os.path.join(source, "docs")):
+        if os.path.relpath(root, source) == "docs" and "reference" in dirs:
+            dirs.remove("reference")  # generated from the tools' --help
+        files += [os.path.join(root, n) for n in names if n.endswith(".md")]
+    data = os.path.join(source, "data")
+    files += [os.path.join(data, d, "README.md") for d in sorted(os.listdir(data))
+              if os.path.isfile(os.path.join(data, d, "README.md"))]
+    return sorted(files)
+
+
+def check_history(source):
+    """Docs are written for a reader: no dates, clock times, machine loads, rounds or sessions."""
+    problems = history_self_test()
+    for path in history_files(source):
+        with open(path, encoding="utf-8") as f:
+            for number, line in enumerate(f, 1):
+                for kind, text in history_hits(line):
+                    problems.append(f"{os.path.relpath(path, source)}:{number}: {kind} ('{text}'): "
+                                    "docs describe what is, without dates, loads or session history")
+    return problems
+
+
 def main(argv):
     if len(argv) >= 3 and argv[1] == "config":
         problems = check_config(argv[2], argv[3:])
     elif len(argv) == 3 and argv[1] == "links":
-        problems = check_links(argv[2])
+        problems = check_links(argv[2]) + check_history(argv[2])
+    elif len(argv) == 3 and argv[1] == "history":
+        problems = check_history(argv[2])
     else:
         print(__doc__)
         return 2
