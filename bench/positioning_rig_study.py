@@ -3,7 +3,7 @@
 the executables with their default settings except the model named. Per seed and force-noise level
 (RIG_SIGMA_F 0.05 and 2): identify-vehs fits the linear baseline (drift 1, y, u); diagnose-vehs
 judges it against the data (its suspects name the missing effect); identify-vehs refits with
-effects ["coulomb_friction"] and likelihood {"use": "always"}. Prints per seed the refit's
+effects ["coulomb_friction"] and otherwise its defaults. Prints per seed the refit's
 parameters, SEs, z-scores against the truth, the likelihood's convergence and the diagnose verdict
 and top suspect, then a summary (seeds, named coulomb_friction, converged, max |z| per parameter).
 
@@ -36,7 +36,9 @@ def write(path, obj):
 
 
 def top_suspect(diag):
-    s = diag.get("suspects")
+    if diag.get("recommended"):
+        return diag["recommended"][0]
+    s = diag.get("score_suspects") or diag.get("suspects")
     if isinstance(s, dict):
         s = s.get("ranked") or s.get("effects") or s.get("list") or []
     if isinstance(s, list) and s:
@@ -64,7 +66,7 @@ def one(seed, sigma, seconds, work):
         verdict, suspect = d.get("verdict", "?"), top_suspect(d)
     refit = os.path.join(work, tag + ".coulomb.json")
     write(refit + ".cfg", {"data": data, "output": refit, "drift_library": ["1", "y", "u"],
-                           "effects": ["coulomb_friction"], "units": UNITS, "likelihood": {"use": "always"}})
+                           "effects": ["coulomb_friction"], "units": UNITS})
     rc, out, err = run([os.path.join(BUILD, "identify-vehs"), refit + ".cfg"])
     row = {"seed": seed, "sigma": sigma, "verdict": verdict, "suspect": suspect, "converged": False,
            "diverged": "diverged" in err, "z": {}, "value": {}, "se": {}}
@@ -72,6 +74,7 @@ def one(seed, sigma, seconds, work):
         m = json.load(open(refit))
         lk = m.get("likelihood") or {}
         row["converged"] = bool(lk.get("converged"))
+        row["likelihood"] = ((m.get("estimator") or {}).get("sampling_adequacy") or {}).get("likelihood", "?")
         for name, t in truth(sigma).items():
             kind, term = name.split("[")[0], name.split("[")[1][:-1]
             v = (m.get(kind) or {}).get(term)
@@ -99,7 +102,7 @@ def main():
             rows.append(r)
             zs = " ".join(f"{k} {r['value'][k]:.5g}±{r['se'][k]:.2g} (z {r['z'][k]:+.2f})" for k in r["z"])
             print(f"  seed {seed}: diagnose {r['verdict']}, top suspect {r['suspect']}; refit "
-                  f"{'converged' if r['converged'] else 'NOT converged'}{', diverged' if r['diverged'] else ''}; {zs}",
+                  f"likelihood {r.get('likelihood', '?')}, {'converged' if r['converged'] else 'NOT converged'}{', diverged' if r['diverged'] else ''}; {zs}",
                   flush=True)
         named = sum(r["suspect"] == "coulomb_friction" for r in rows)
         conv = sum(r["converged"] for r in rows)
@@ -109,7 +112,8 @@ def main():
         for name in truth(sigma):
             z = [abs(r["z"][name]) for r in rows if name in r["z"]]
             if z:
-                print(f"  {name}: max |z| {max(z):.2f}, |z| > 3 in {sum(v > 3 for v in z)} of {len(z)}")
+                print(f"  {name}: max |z| {max(z):.2f}, |z| <= 2 in {sum(v <= 2 for v in z)} of {len(z)}, "
+                      f"|z| > 3 in {sum(v > 3 for v in z)}")
 
 
 if __name__ == "__main__":

@@ -61,6 +61,22 @@ double stiffness_omega_dt(const Model& fit, const Dataset& data) {
   return std::sqrt(sum / double(n)) * data.records.front().dt;
 }
 
+double input_omega_dt(const Dataset& data) {
+  if (!data.has_u()) return 0.0;
+  double sum = 0.0, sum2 = 0.0, diff2 = 0.0;
+  std::size_t n = 0, nd = 0;
+  for (const Record& r : data.records) {
+    const double* u = data.u_of(r);
+    for (std::size_t k = 0; k < r.size; ++k) {
+      sum += u[k], sum2 += u[k] * u[k], ++n;
+      if (k > 0) diff2 += (u[k] - u[k - 1]) * (u[k] - u[k - 1]), ++nd;
+    }
+  }
+  if (n < 2 || nd == 0) return 0.0;
+  const double mean = sum / double(n), var = std::max(sum2 / double(n) - mean * mean, 0.0);
+  return var > 0.0 ? std::sqrt(diff2 / double(nd) / var) : 0.0;
+}
+
 SamplingAdequacy assess_sampling(const Model& fit, const Dataset& data) {
   SamplingAdequacy a;
   a.increments_omega_dt = dominant_omega_dt(data);
@@ -75,6 +91,7 @@ SamplingAdequacy assess_sampling(const Model& fit, const Dataset& data) {
       a.best_relative_se = std::min(a.best_relative_se, it->second / std::abs(tc.coef));
   }
   a.recorded_input = fit.uses_drive();
+  if (a.recorded_input) a.input_omega_dt = input_omega_dt(data);
   const auto g = [](double v) { return vehs::detail::format_number(v, 3); };
   if (!std::isfinite(a.omega_dt)) {
     a.reason = "the data's dominant frequency is undefined (constant or too short records)";
@@ -97,6 +114,11 @@ SamplingAdequacy assess_sampling(const Model& fit, const Dataset& data) {
     a.vouched = false;
     a.reason = w + " with a recorded input: holding u over an interval delays it by dt/2, a phase error of " +
                g(a.omega_dt / 2) + " rad";
+  } else if (a.recorded_input && a.input_omega_dt / 2 > a.best_relative_se) {
+    a.vouched = false;
+    a.reason = w + " with an input that changes fast (its own omega*dt = rms(du)/sd(u) = " + g(a.input_omega_dt) +
+               "): holding u over an interval delays it by dt/2, a phase error of " + g(a.input_omega_dt / 2) +
+               " rad, above the best relative standard error " + g(a.best_relative_se);
   } else if (const std::string why = moment_fit_doubt(fit, data, a.best_relative_se, g); !why.empty()) {
     a.vouched = false;
     a.reason = w + why;

@@ -11,6 +11,8 @@ nlohmann::ordered_json adequacy_json(const Refinement& f) {
   if (std::isfinite(f.adequacy.omega_dt)) j["omega_dt"] = f.adequacy.omega_dt;
   if (std::isfinite(f.adequacy.increments_omega_dt)) j["increments_omega_dt"] = f.adequacy.increments_omega_dt;
   if (std::isfinite(f.adequacy.stiffness_omega_dt)) j["stiffness_omega_dt"] = f.adequacy.stiffness_omega_dt;
+  if (f.adequacy.recorded_input && std::isfinite(f.adequacy.input_omega_dt))
+    j["input_omega_dt"] = f.adequacy.input_omega_dt;
   j["vouched"] = f.adequacy.vouched;
   j["likelihood"] = f.result ? "used" : !f.failure.empty() ? "failed" : "not used";
   j["reason"] = f.adequacy.reason;

@@ -161,7 +161,10 @@ std::string removal_note(const likelihood::SelectionStep& st) {
 void print_refinement(const Refinement& f) {
   std::printf("sampling: %s\n", f.adequacy.reason.c_str());
   if (!f.result) {
-    if (!f.adequacy.vouched) std::printf("  (the likelihood would refine this fit: estimator \"auto\" or \"likelihood\")\n");
+    if (!f.failure.empty())
+      std::printf("  likelihood failed, the moment fit stands: %s\n", f.failure.c_str());
+    else if (!f.adequacy.vouched)
+      std::printf("  (the likelihood would refine this fit: estimator \"auto\" or \"likelihood\")\n");
     return;
   }
   const auto& r = *f.result;

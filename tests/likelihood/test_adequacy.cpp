@@ -119,3 +119,29 @@ TEST_CASE("auto: the rule's frequency is the larger of the increments' and the f
   CHECK(fine.stiffness_omega_dt == Approx(expected * 0.01 / 0.35).epsilon(1e-2));
   CHECK(fine.vouched);
 }
+
+TEST_CASE("auto: an input that changes fast sends the fit to the likelihood when its half-step "
+          "phase error exceeds the best relative SE", "[likelihood][adequacy]") {
+  // a slow x (ω̂Δt 0.05) driven by a faster input: a closed loop's controller force changes by
+  // about 11 % of its spread per sample while the axis moves slowly (bench/positioning_rig.py)
+  Model m = fit_with(SamplingVerdict::ContinuousTime, 1);  // best relative SE 0.02
+  m.drift.push_back({Term::drive(), 1.0});
+  Dataset d = slow_cosine(0.05);
+  const double omega_u_dt = 0.12;
+  for (std::size_t k = 0; k < d.x.size(); ++k) d.u.push_back(3.0 + std::sin(omega_u_dt * double(k)));
+  // rms(Δu)/sd(u) of a sinusoid is 2 sin(ωΔt/2) (exactly, over whole periods; 4000 samples hold
+  // 76.4 periods, so within 0.2 %)
+  CHECK(likelihood::input_omega_dt(d) == Approx(2.0 * std::sin(omega_u_dt / 2)).epsilon(2e-3));
+  const likelihood::SamplingAdequacy fast = likelihood::assess_sampling(m, d);  // phase 0.06 > 0.02
+  CHECK(fast.input_omega_dt == likelihood::input_omega_dt(d));
+  CHECK_FALSE(fast.vouched);
+  CHECK(fast.reason.find("input that changes fast") != std::string::npos);
+  // the same input at a tenth of the rate: phase error 0.006 < 0.02, the moment fit stands
+  for (std::size_t k = 0; k < d.x.size(); ++k) d.u[k] = 3.0 + std::sin(0.1 * omega_u_dt * double(k));
+  CHECK(likelihood::assess_sampling(m, d).vouched);
+  // no input term in the model: the input's rate is not the model's concern
+  m.drift.pop_back();
+  for (std::size_t k = 0; k < d.x.size(); ++k) d.u[k] = 3.0 + std::sin(omega_u_dt * double(k));
+  CHECK(likelihood::assess_sampling(m, d).vouched);
+  CHECK(likelihood::input_omega_dt(Dataset{}) == 0.0);
+}

@@ -22,7 +22,12 @@
 //    best relative standard error of the moment fit's drift coefficients (a bias of more than
 //    one SE makes the intervals wrong); nor when the model has a recorded input and
 //    ω̂Δt ≥ 0.1: the moment fit regresses on u_k held over the interval, a delay of Δt/2, i.e. a
-//    phase error of ω̂Δt/2 ≥ 5 % of a radian in the forcing.
+//    phase error of ω̂Δt/2 ≥ 5 % of a radian in the forcing; nor when the input itself changes
+//    fast enough that this phase error, ω_uΔt/2 with ω_uΔt = rms(Δu)/sd(u) (input_omega_dt: ω·Δt
+//    for a sinusoid), exceeds the best relative SE. A closed-loop axis shows why the input's own
+//    rate matters: its controller's force changes by 11 % of its spread per sample while x
+//    moves slowly (ω̂Δt 0.006), and the moment fit's gain of u was 27 SE off and β 4.7 SE low
+//    (bench/positioning_rig.py, σ_F 2 N/√Hz); the likelihood's within 1 SE.
 //  * nor when ω̂Δt is small but the moment fit has other known biases:
 //    - the sampling diagnosis found white sensor noise at the recorded rate (verdict "noisy" at
 //      stride 1): the noisy estimator's SEs are too small (1 % noise on a Duffing in mm: |z| up
@@ -55,6 +60,7 @@ struct SamplingAdequacy {
   double bias = 0.0;              ///< (ω̂Δt)²/12: relative bias of the expansions
   double best_relative_se = 0.0;  ///< min over drift terms of stderr / |coef| (inf: none stated)
   bool recorded_input = false;    ///< the model has a `u` term
+  double input_omega_dt = 0.0;    ///< the input's own ω·Δt (input_omega_dt; 0 without a `u` term)
   bool vouched = true;            ///< the moment fit can stand on its own
   std::string reason;             ///< one line, for the report
 };
@@ -70,6 +76,10 @@ using vehs::dominant_omega_dt;
 /// (its spurious x⁵ had inflated the best relative SE past (ω̂Δt)²/12) with x²·y at z −5.3 and a
 /// diffusion x² term at −13.3 written (bench/identify_coarse_cli.py).
 double stiffness_omega_dt(const Model& fit, const Dataset& data);
+
+/// rms(u_{k+1} − u_k) / sd(u) over the records' input (differences within a record): ω·Δt for
+/// a sinusoidal input; 0 without an input or for a constant one.
+double input_omega_dt(const Dataset& data);
 
 /// The largest rate × Δt of the model's hidden states: λΔt of electromechanical_coupling,
 /// Δt/τ of colored_noise (0 without them).
