@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "vehs/core/diffusion_domain.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/likelihood/detail/data_share.hpp"
 #include "vehs/likelihood/detail/selection.hpp"
@@ -33,12 +34,26 @@ bool has_term(const TermList& list, const Term& t) {
   return std::any_of(list.begin(), list.end(), [&](const TermCoef& tc) { return tc.term == t && tc.coef != 0.0; });
 }
 
+/// The highest power of x among the y-free monomials of the diffusion (-1: none).
+int leading_x_power(const TermList& diffusion) {
+  int p = -1;
+  for (const TermCoef& tc : diffusion)
+    if (tc.coef != 0.0 && tc.term.is_polynomial() && tc.term.py == 0) p = std::max(p, tc.term.px);
+  return p;
+}
+
+/// Every candidate term the model lacks, except a y-free diffusion monomial of an odd power above
+/// the diffusion's leading one: a22(x, 0) would then turn negative for large |x| whatever its
+/// sign (vehs/core/diffusion_domain.hpp), a model no tool can simulate.
 std::vector<Candidate> candidates(const Model& m, const RefineOptions& o) {
   std::vector<Candidate> c;
   for (const Term& t : o.candidate_drift)
     if (!has_term(m.drift, t)) c.push_back({t, true});
-  for (const Term& t : o.candidate_diffusion)
-    if (!has_term(m.diffusion, t)) c.push_back({t, false});
+  const int lead = leading_x_power(m.diffusion);
+  for (const Term& t : o.candidate_diffusion) {
+    const bool odd_lead = t.is_polynomial() && t.py == 0 && t.px > lead && t.px % 2 == 1;
+    if (!has_term(m.diffusion, t) && !odd_lead) c.push_back({t, false});
+  }
   return c;
 }
 
@@ -152,6 +167,10 @@ Result add_terms(Result current, const Dataset& data, const RefineOptions& o, co
     st.log_likelihood = r.log_likelihood;
     st.delta = 2.0 * (r.log_likelihood - current.log_likelihood);
     st.accepted = st.delta > bar;
+    if (const std::string why = diffusion_negative_at_large_x(r.model.model); st.accepted && !why.empty()) {
+      if (o.log) o.log("likelihood selection: not adding " + st.added + ": the fitted " + why);
+      break;
+    }
     log_step(o, st);
     steps.push_back(st);
     if (!st.accepted) break;

@@ -9,6 +9,7 @@
 #include <algorithm>
 
 #include "likelihood_fixtures.hpp"
+#include "vehs/core/diffusion_domain.hpp"
 #include "vehs/likelihood/refine.hpp"
 
 using namespace vehs;
@@ -95,4 +96,34 @@ TEST_CASE("a weak term that the screened share cannot decide is tested on all th
   std::map<std::string, double> truth_values = kTruth;
   truth_values["drift[x^2*y]"] = c;
   CHECK(against(r, truth_values).max_z <= z_bound(5, 1e-5));
+}
+
+// A diffusion 0.04 + 0.03·x + 0.02·x² (positive everywhere) on a start with a constant diffusion:
+// x alone would make a22(x, 0) = 2D + c·x negative for large |x|, a model no tool simulates (a
+// positioning-rig study got 2D + 0.00106·x, refused by diagnose's twins), so the forward step may
+// add x only once x² leads. Here x alone (the larger score, |z| ≈ 64) also fails the filter
+// within the data, which used to end the forward steps with neither term. Both terms' |z| are
+// above 29 against a bar of 4.75 (false-failure probability far below 1e-4).
+TEST_CASE("the forward step adds no odd leading diffusion power", "[likelihood][selection]") {
+  Model truth = bistable();
+  truth.diffusion = {{Term::parse("1"), 0.04}, {Term::parse("x"), 0.03}, {Term::parse("x^2"), 0.02}};
+  const Dataset d = simulate(truth, 0.35, 8, 1500.0, 613);
+  likelihood::ObservedModel start{bistable(), 0.0, {}};
+  likelihood::RefineOptions o = forward_options();
+  o.candidate_diffusion = {Term::parse("x"), Term::parse("x^2"), Term::parse("x^3")};
+  const likelihood::Result r = likelihood::refine(start, d, o);
+  INFO(r.summary.FullReport());
+  bool x2_in = false, x_in = false;
+  for (const likelihood::SelectionStep& s : r.summary.selection) {
+    if (!s.accepted || s.added.empty()) continue;
+    if (s.added == "diffusion[x^2]") x2_in = true;
+    CHECK(s.added != "diffusion[x^3]");
+    if (s.added == "diffusion[x]") {
+      CHECK(x2_in);
+      x_in = true;
+    }
+  }
+  CHECK(x2_in);
+  CHECK(x_in);
+  CHECK(diffusion_negative_at_large_x(r.model.model).empty());
 }
