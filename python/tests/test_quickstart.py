@@ -41,7 +41,7 @@ def python_run(repo, tmp_path_factory):
     report = tmp_path_factory.mktemp("quickstart") / "py_report"
     records = vehs.read(measurement=str(repo / "examples/quickstart/shaker.json"), data=[
         str(repo / "examples/quickstart/shaker.csv")])
-    first, _ = vehs.identify(records, likelihood={"use": "always"})  # units from shaker.json
+    first, _ = vehs.identify(records)  # the defaults; units from shaker.json
     d = vehs.diagnose(first, records, report=str(report))
     refit, _ = d.refit(records)
     again = vehs.diagnose(refit, records)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "vehs/core/diffusion_domain.hpp"
 #include "vehs/core/terms.hpp"
 
 namespace vehs::identify::detail {
@@ -21,6 +22,9 @@ bool positive_on(const Dictionary& psi, const Eigen::VectorXd& q, const StateBox
   for (int j = 0; j < psi.size(); ++j)
     if (q[j] != 0.0) a22.push_back({psi.term(j), q[j]}), on_y = on_y || psi.term(j).depends_on_y();
   if (box.x_lo <= 0.0 && box.x_hi >= 0.0 && !(evaluate(a22, 0.0, 0.0) > 0.0)) return false;
+  Model model;
+  model.diffusion = a22;
+  if (!diffusion_negative_at_large_x(model).empty()) return false;
   const int nx = 201, ny = on_y ? 41 : 1;
   for (int i = 0; i < nx; ++i)
     for (int j = 0; j < ny; ++j) {

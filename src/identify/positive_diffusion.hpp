@@ -21,7 +21,9 @@ struct StateBox {
 StateBox state_box(const Dataset& data, double v_sd);
 
 /// Whether a22 = Σ q_j ψ_j is > 0 on a grid over the box (201 values of x; 41 of y when ψ
-/// depends on y) and at the rest state (0, 0) when the box holds it (a22 = c x² is no noise at rest).
+/// depends on y) and at the rest state (0, 0) when the box holds it (a22 = c x² is no noise at rest),
+/// and stays >= 0 for large |x| (vehs/core/diffusion_domain.hpp: 2D + c·x, positive over a
+/// positioning rig's few mm, is a model no tool simulates).
 bool positive_on(const Dictionary& psi, const Eigen::VectorXd& q, const StateBox& box);
 
 /// The selection's choice moved to a diffusion > 0 over the box (above); the rule says so.
