@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "vehs/core/error.hpp"
 #include "vehs/likelihood/detail/model_structure.hpp"
 #include "vehs/likelihood/observed_model.hpp"
 #include "vehs/likelihood/parameters.hpp"
@@ -86,12 +87,12 @@ class Parameterization {
   static void lift(const E<double>& from, E<T>& to) {
     for (std::size_t i = 0; i < E<T>::params.size(); ++i) to.*E<T>::params[i].member = T(from.*E<double>::params[i].member);
   }
-  /// The parameter of an effect named `key` (the type's first parameter when none is).
+  /// The parameter of an effect named `key` (an internal error when the type has none).
   template <class T, template <class> class E>
   static T& member(E<T>& e, const std::string& key) {
     for (const auto& q : E<T>::params)
       if (q.name == key) return e.*q.member;
-    return e.*E<T>::params[0].member;
+    throw Error("likelihood: internal error: no effect parameter '" + key + "'");
   }
 
   template <class T>
@@ -109,7 +110,8 @@ class Parameterization {
     if (k == "lambda") return c.lambda;
     if (k == "coupling") return c.coupling;
     if (k == "tau") return c.tau;
-    return c.intensity;
+    if (k == "intensity") return c.intensity;
+    throw Error("likelihood: internal error: no effect parameter '" + k + "'");
   }
 
   ObservedModel start_;
