@@ -63,18 +63,24 @@ double stiffness_omega_dt(const Model& fit, const Dataset& data) {
 
 double input_omega_dt(const Dataset& data) {
   if (!data.has_u()) return 0.0;
-  double sum = 0.0, sum2 = 0.0, diff2 = 0.0;
-  std::size_t n = 0, nd = 0;
+  // two passes: a drive far from zero (a force offset, raw ADC counts) keeps its variance
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const Record& r : data.records)
+    for (std::size_t k = 0; k < r.size; ++k) sum += data.u_of(r)[k], ++n;
+  if (n < 2) return 0.0;
+  const double mean = sum / double(n);
+  double var = 0.0, diff2 = 0.0;
+  std::size_t nd = 0;
   for (const Record& r : data.records) {
     const double* u = data.u_of(r);
     for (std::size_t k = 0; k < r.size; ++k) {
-      sum += u[k], sum2 += u[k] * u[k], ++n;
+      var += (u[k] - mean) * (u[k] - mean);
       if (k > 0) diff2 += (u[k] - u[k - 1]) * (u[k] - u[k - 1]), ++nd;
     }
   }
-  if (n < 2 || nd == 0) return 0.0;
-  const double mean = sum / double(n), var = std::max(sum2 / double(n) - mean * mean, 0.0);
-  return var > 0.0 ? std::sqrt(diff2 / double(nd) / var) : 0.0;
+  var /= double(n);
+  return var > 0.0 && nd > 0 ? std::sqrt(diff2 / double(nd) / var) : 0.0;
 }
 
 SamplingAdequacy assess_sampling(const Model& fit, const Dataset& data) {

@@ -132,6 +132,11 @@ TEST_CASE("auto: an input that changes fast sends the fit to the likelihood when
   // rms(Δu)/sd(u) of a sinusoid is 2 sin(ωΔt/2) (exactly, over whole periods; 4000 samples hold
   // 76.4 periods, so within 0.2 %)
   CHECK(likelihood::input_omega_dt(d) == Approx(2.0 * std::sin(omega_u_dt / 2)).epsilon(2e-3));
+  {  // the same input on an offset of 1e8 (raw counts): E[u²] − E[u]² would lose it entirely
+    Dataset far = d;
+    for (double& v : far.u) v += 1e8;
+    CHECK(likelihood::input_omega_dt(far) == Approx(2.0 * std::sin(omega_u_dt / 2)).epsilon(2e-3));
+  }
   const likelihood::SamplingAdequacy fast = likelihood::assess_sampling(m, d);  // phase 0.06 > 0.02
   CHECK(fast.input_omega_dt == likelihood::input_omega_dt(d));
   CHECK_FALSE(fast.vouched);
