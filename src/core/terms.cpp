@@ -124,24 +124,44 @@ namespace {
 inline double sgn(double y) { return (y > 0) - (y < 0); }
 
 // Central differences of a user's function: steps relative to the point (internal units are
-// O(1)); a jump inside the stencil shows as a spike of width 2h, like sign(y)'s box kernel.
+// O(1)). A jump inside the stencil is left out, as sign(y)'s derivative is 0 almost everywhere
+// (a spike of height J/h would kick a Taylor step, or the filter's step rule, wherever the state
+// crosses it): a rise over [z − h, z + h] more than 4× the rises beside it, at the same spacing,
+// is a jump, and the sides' slopes stand in for it.
 constexpr double kStep1 = 1e-6, kStep2 = 1e-4;
 inline double step(double z, double h) { return h * (1.0 + std::abs(z)); }
+inline bool is_jump(double rise, double left, double right, double scale) {
+  return std::abs(rise) > 4.0 * std::max(std::abs(left), std::abs(right)) && std::abs(rise) > 1e-12 * scale;
+}
+/// g′(z) for g(z) = `at(z)`.
+template <class G>
+double slope_without_jumps(const G& at, double z, double h) {
+  const double gm = at(z - h), gp = at(z + h), rise = gp - gm;
+  const double left = gm - at(z - 3.0 * h), right = at(z + 3.0 * h) - gp;
+  if (is_jump(rise, left, right, std::abs(gm) + std::abs(gp))) return (left + right) / (4.0 * h);
+  return rise / (2.0 * h);
+}
+/// g″(z) for g(z) = `at(z)`.
+template <class G>
+double curvature_without_jumps(const G& at, double z, double h) {
+  const double g0 = at(z), gm = at(z - h), gp = at(z + h);
+  const double dm = g0 - gm, dp = gp - g0;
+  const double om = gm - at(z - 2.0 * h), op = at(z + 2.0 * h) - gp;
+  const double inner = std::abs(dm) > std::abs(dp) ? dm : dp;
+  if (is_jump(inner, om, op, std::abs(gm) + std::abs(gp))) return (op - om) / (3.0 * h * h);
+  return (dp - dm) / (h * h);
+}
 double user_dx(const UserFunction& f, double x, double y, double u) {
-  const double h = step(x, kStep1);
-  return (f(x + h, y, u) - f(x - h, y, u)) / (2.0 * h);
+  return slope_without_jumps([&](double z) { return f(z, y, u); }, x, step(x, kStep1));
 }
 double user_dy(const UserFunction& f, double x, double y, double u) {
-  const double h = step(y, kStep1);
-  return (f(x, y + h, u) - f(x, y - h, u)) / (2.0 * h);
+  return slope_without_jumps([&](double z) { return f(x, z, u); }, y, step(y, kStep1));
 }
 double user_dxx(const UserFunction& f, double x, double y, double u) {
-  const double h = step(x, kStep2);
-  return (f(x + h, y, u) - 2.0 * f(x, y, u) + f(x - h, y, u)) / (h * h);
+  return curvature_without_jumps([&](double z) { return f(z, y, u); }, x, step(x, kStep2));
 }
 double user_dyy(const UserFunction& f, double x, double y, double u) {
-  const double h = step(y, kStep2);
-  return (f(x, y + h, u) - 2.0 * f(x, y, u) + f(x, y - h, u)) / (h * h);
+  return curvature_without_jumps([&](double z) { return f(x, z, u); }, y, step(y, kStep2));
 }
 double user_dxy(const UserFunction& f, double x, double y, double u) {
   const double hx = step(x, kStep2), hy = step(y, kStep2);
@@ -166,6 +186,16 @@ double Term::value(double x, double y, double u) const {
 double Term::d_dx(double x, double y, double u) const {
   if (kind == TermKind::User) return user_dx(*fn, x, y, u);
   return kind == TermKind::Monomial ? dpow(x, px) * ipow(y, py) : 0.0;
+}
+
+double Term::slope_dx(double x, double y, double hx, double u) const {
+  if (kind != TermKind::User || !(hx > 0.0)) return d_dx(x, y, u);
+  return ((*fn)(x + hx, y, u) - (*fn)(x - hx, y, u)) / (2.0 * hx);
+}
+
+double Term::slope_dy(double x, double y, double hy, double u) const {
+  if (kind != TermKind::User || !(hy > 0.0)) return d_dy(x, y, u);
+  return ((*fn)(x, y + hy, u) - (*fn)(x, y - hy, u)) / (2.0 * hy);
 }
 
 double Term::d_dy(double x, double y, double u) const {

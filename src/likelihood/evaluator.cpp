@@ -48,14 +48,17 @@ int automatic_substeps(const Structure& st, const Coefficients<double>& c, const
   const double dt = data.records.front().dt;
   double rho = 0.0;
   const int nx = 41, ny = 11;
+  // a user's term is read at the grid's resolution: a jump is a finite rise over a cell, as
+  // sign(y)'s is none (the filter averages both over the state's spread)
+  const double hx = (xmax - xmin) / (nx - 1), hy = 2.0 * ymax / (ny - 1);
   for (int i = 0; i < nx; ++i)
     for (int j = 0; j < ny; ++j) {
       const double x = xmin + (xmax - xmin) * i / (nx - 1);
       const double y = -ymax + 2.0 * ymax * j / (ny - 1);
       double a = 0.0, b = 0.0;
       for (std::size_t t = 0; t < st.drift.size(); ++t) {
-        a += c.drift[t] * st.drift[t].d_dx(x, y);
-        b += c.drift[t] * st.drift[t].d_dy(x, y);
+        a += c.drift[t] * st.drift[t].slope_dx(x, y, hx);
+        b += c.drift[t] * st.drift[t].slope_dy(x, y, hy);
       }
       if (st.impact) a -= std::abs(c.stop.stiffness());
       const double r = 0.5 * (std::abs(b) + std::sqrt(b * b + 4.0 * std::abs(a)));

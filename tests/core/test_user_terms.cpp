@@ -42,6 +42,25 @@ TEST_CASE("a user term's derivatives match its closed form", "[terms][user]") {
   CHECK(t.d2_dxdy(x, y, u) == Approx(2 * x * sech2).epsilon(1e-5));
 }
 
+TEST_CASE("a user term's derivatives leave its jumps out as sign(y)'s do", "[terms][user]") {
+  // a step in the stencil: the derivative of its sides (0, 0.5), not a spike of height J/(2h);
+  // before, (y>0) at y = 1e-7 gave ∂y 5e5 and ∂yy 5e7, which kicked the Taylor 1.5 scheme
+  const Term step = Term::parse("(y>0)+0.5*y*(y>0)"), pure = Term::parse("(y>0)"), smooth = Term::parse("tanh(y/0.01)");
+  for (double y : {-3e-7, 0.0, 1e-7, 2e-6, 3e-5}) {
+    CAPTURE(y);
+    CHECK(std::abs(step.d_dy(0.2, y)) <= 0.5 + 1e-6);
+    CHECK(pure.d2_dy2(0.2, y) == 0.0);
+  }
+  CHECK(step.d_dy(0.2, 0.3) == Approx(0.5).epsilon(1e-8));
+  CHECK(step.d_dy(0.2, -0.3) == Approx(0.0).margin(1e-8));
+  // a steep but smooth rise keeps its derivative (100 at the origin)
+  CHECK(smooth.d_dy(0.0, 0.0) == Approx(100.0).epsilon(1e-6));
+  CHECK(smooth.d2_dy2(0.0, 0.005) == Approx(-2e4 * std::tanh(0.5) * (1 - std::tanh(0.5) * std::tanh(0.5))).epsilon(1e-3));
+  // a jump in x, the same rule
+  const Term stop = Term::parse("(x>0.8)");
+  CHECK(std::abs(stop.d_dx(0.8, 0.0)) < 1e-3);
+}
+
 TEST_CASE("a bad expression is refused with the parser's reason", "[terms][user]") {
   auto message = [](const char* text) {
     try {

@@ -49,6 +49,11 @@ struct Term {
   double d2_dy2(double x, double y, double u = 0.0) const;  ///< ∂²/∂y²
   double d2_dx2(double x, double y, double u = 0.0) const;  ///< ∂²/∂x²
   double d2_dxdy(double x, double y, double u = 0.0) const; ///< ∂²/∂x∂y
+  /// ∂/∂x and ∂/∂y as a step-size rule sees them at resolution hx, hy: the exact derivative of
+  /// the grammar's terms (0 across sign(y)'s jump), a central difference over ±h of a User term
+  /// (a jump J reads J/(2h), not the spike of d_dx's own small stencil).
+  double slope_dx(double x, double y, double hx, double u = 0.0) const;
+  double slope_dy(double x, double y, double hy, double u = 0.0) const;
 };
 
 /// The term of internal units (vehs/core/scaling.hpp) for a User term: its function of

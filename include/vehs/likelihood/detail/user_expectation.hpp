@@ -45,23 +45,21 @@ void one_variable(const G& at, const T& m, const T& s, T& value, T& d_mean) {
     z[k] = m0 + s0 * kSpan * (2.0 * k / kGrid - 1.0);
     g[k] = at(z[k]);
   }
-  value = T(0.0);
-  d_mean = T(0.0);
-  // ∫ (α + β z) N(z; m, s²) dz over [a, b], and its ∂/∂m
-  auto piece = [&](double a, double b, double ga, double gb) {
-    const double beta = (gb - ga) / (b - a), alpha = ga - beta * a;
-    const T da = (a - m) / s, db = (b - m) / s;
-    const T fa = normal_pdf(da), fb = normal_pdf(db);
-    const T dP = normal_cdf(db) - normal_cdf(da), df = fb - fa, ddf = db * fb - da * fa;
-    value += alpha * dP + beta * (m * dP - s * df);
-    d_mean += -alpha * df / s + beta * (dP - m * df / s - ddf);
+  // the interpolant written as g(z) = g₀ + Σ a_j·(z − t_j)⁺ + Σ J_i·1{z > c_i} (constant beyond
+  // the grid): its slope changes a_j and jumps J_i, collected segment by segment
+  struct Knot {
+    double at, slope_change, jump;
   };
-  // tails beyond the grid: constant
-  {
-    const T d0 = (z[0] - m) / s, dK = (z[kGrid] - m) / s;
-    value += g[0] * normal_cdf(d0) + g[kGrid] * normal_cdf(T(-dK));
-    d_mean += -g[0] * normal_pdf(d0) / s + g[kGrid] * normal_pdf(dK) / s;
-  }
+  std::array<Knot, 2 * kGrid + 2> knots{};
+  int n_knots = 0;
+  double slope = 0.0, end = g[0], max_slope = 0.0;
+  auto segment = [&](double a, double b, double ga, double gb) {
+    const double sl = b > a ? (gb - ga) / (b - a) : slope;
+    knots[n_knots++] = {a, sl - slope, ga - end};
+    slope = sl;
+    end = gb;
+    max_slope = std::max(max_slope, std::abs(sl));
+  };
   auto jump = [&](int k) {
     const double d = std::abs(g[k + 1] - g[k]);
     const double left = k > 0 ? std::abs(g[k] - g[k - 1]) : 0.0;
@@ -88,10 +86,10 @@ void one_variable(const G& at, const T& m, const T& s, T& value, T& d_mean) {
     if (!jump(k)) {
       double c = 0.0, gc = 0.0;
       if (kink(k, c, gc)) {
-        piece(z[k], c, g[k], gc);
-        piece(c, z[k + 1], gc, g[k + 1]);
+        segment(z[k], c, g[k], gc);
+        segment(c, z[k + 1], gc, g[k + 1]);
       } else {
-        piece(z[k], z[k + 1], g[k], g[k + 1]);
+        segment(z[k], z[k + 1], g[k], g[k + 1]);
       }
       continue;
     }
@@ -104,8 +102,30 @@ void one_variable(const G& at, const T& m, const T& s, T& value, T& d_mean) {
       ((at(c) > mid) == rising ? hi : lo) = c;
     }
     const double c = 0.5 * (lo + hi);
-    piece(z[k], c, g[k], g[k]);
-    piece(c, z[k + 1], g[k + 1], g[k + 1]);
+    segment(z[k], c, g[k], g[k]);
+    segment(c, z[k + 1], g[k + 1], g[k + 1]);
+  }
+  knots[n_knots++] = {z[kGrid], -slope, g[kGrid] - end};
+  // E[(z − t)⁺] = s·φ(d) + (m − t)·Φ(d) and E[1{z > c}] = Φ(d), d = (m − t)/s; ∂/∂m: Φ(d), φ(d)/s.
+  // Slope changes at the rounding level of a linear stretch are dropped: a step, a hinge or |y|
+  // costs a few knots, not the grid's 129.
+  const double negligible = 1e-10 * max_slope;
+  value = T(g[0]);
+  d_mean = T(0.0);
+  for (int j = 0; j < n_knots; ++j) {
+    const Knot& kn = knots[j];
+    const bool bends = std::abs(kn.slope_change) > negligible, jumps = kn.jump != 0.0;
+    if (!bends && !jumps) continue;
+    const T d = (m - kn.at) / s;
+    const T cdf = normal_cdf(d), pdf = normal_pdf(d);
+    if (bends) {
+      value += kn.slope_change * (s * pdf + (m - kn.at) * cdf);
+      d_mean += kn.slope_change * cdf;
+    }
+    if (jumps) {
+      value += kn.jump * cdf;
+      d_mean += kn.jump * pdf / s;
+    }
   }
 }
 
