@@ -56,6 +56,25 @@ def fit(build, work, csv, friction):
     return m["drift"][friction], m["stderr"]["drift"][friction], seconds
 
 
+def simulate(build, work, friction):
+    """simulate-vehs's steps per second on the model with `friction`, best of three runs."""
+    model = os.path.join(work, f"sim_model_{len(friction)}.json")
+    json.dump({"drift": {"x": -K, "y": -C, friction: -MU}, "diffusion": {"1": TWO_D}},
+              open(model, "w"))
+    cfg = os.path.join(work, f"simulate_{len(friction)}.json")
+    summary = os.path.join(work, f"summary_{len(friction)}.json")
+    json.dump({"model": model, "trajectories": 64, "duration": 200.0, "dt": 1e-3, "scheme": "rk4_euler",
+               "seed": 1, "x0": 0, "y0": 0, "output": os.path.join(work, f"sim_{len(friction)}.npy"),
+               "summary": summary}, open(cfg, "w"))
+    best = 0.0
+    for _ in range(3):
+        proc = subprocess.run([os.path.join(build, "simulate-vehs"), cfg, "-q"], capture_output=True, text=True)
+        if proc.returncode != 0:
+            sys.exit(f"simulate-vehs failed on {friction}: {proc.stderr.strip()}")
+        best = max(best, json.load(open(summary))["steps_per_second"])
+    return best
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument("--samples", type=int, default=4000)
@@ -74,6 +93,9 @@ def main():
         print(f"{form:>14}: friction {-est:.4f} +- {se:.4f} m/s^2 (truth {MU}, z {(-est - MU) / se:+.2f}), "
               f"identify-vehs {seconds:.1f} s")
     print(f"likelihood fit with the expression / with the built-in term: {rows[1] / rows[0]:.2f}x")
+    speed = [simulate(build, work, form) for form in ("sign(y)", "(y>0)-(y<0)")]
+    print(f"simulate-vehs: {speed[0] / 1e6:.1f} M steps/s built in, {speed[1] / 1e6:.1f} M steps/s with the "
+          f"expression: {speed[0] / speed[1]:.2f}x")
 
 
 if __name__ == "__main__":

@@ -68,8 +68,12 @@ std::shared_ptr<const UserFunction> UserFunction::rescaled(double kx, double ky,
   return f;  // same text: the per-thread parsers are shared
 }
 
-double UserFunction::operator()(double x, double y, double u) const {
-  Instance& in = instance(id_, text_);
+double UserFunction::operator()(double x, double y, double u) const { return local()(x, y, u); }
+
+UserFunction::Local UserFunction::local() const { return Local(&instance(id_, text_), scales_); }
+
+double UserFunction::Local::operator()(double x, double y, double u) const {
+  Instance& in = *static_cast<Instance*>(instance_);
   in.x = scales_[0] * x;
   in.y = scales_[1] * y;
   in.u = scales_[2] * u;

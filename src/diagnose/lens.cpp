@@ -64,8 +64,9 @@ double CompiledTerms::d_dy(double x, double y, double w) const {
     if (m.py > 0) s += m.c * m.py * xp[m.px] * yp[m.py - 1];
   if (sign_ != 0.0 && std::abs(y) < w) s += sign_ / w;
   if (yabs_ != 0.0) s += yabs_ * 2.0 * std::abs(y);
-  for (const auto& tc : user_)  // over the kernel's width, as sign(y)
-    s += tc.coef * (tc.term.value(x, y + w, 0.0) - tc.term.value(x, y - w, 0.0)) / (2.0 * w);
+  for (const auto& tc : user_)  // over the kernel's width, as sign(y) (w = 0: its derivative)
+    s += tc.coef * (w > 0.0 ? (tc.term.value(x, y + w, 0.0) - tc.term.value(x, y - w, 0.0)) / (2.0 * w)
+                            : tc.term.d_dy(x, y));
   return s;
 }
 

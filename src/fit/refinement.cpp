@@ -100,13 +100,6 @@ void choose_input(const likelihood::ObservedModel& start, const Dataset& data, l
   if (o.log) o.log("likelihood: input " + out.input_reason);
 }
 
-bool has_user_terms(const Model& m) {
-  for (const auto* terms : {&m.drift, &m.diffusion})
-    for (const auto& tc : *terms)
-      if (tc.term.is_user()) return true;
-  return false;
-}
-
 /// The full refinement as the phase "likelihood fit": one step per fit (warm starts and selection
 /// refits included) and per data set of the bias correction, the heartbeat in between.
 likelihood::Result refine_counted(likelihood::ObservedModel& start, const Dataset& data, likelihood::RefineOptions o,
@@ -128,14 +121,6 @@ Refinement refine_moment_fit(Model& model, const Dataset& data, const Likelihood
   const bool use = settings.use == LikelihoodUse::Always ||
                    (settings.use == LikelihoodUse::Auto && !out.adequacy.vouched);
   if (!use) return out;
-  if (settings.use == LikelihoodUse::Auto && has_user_terms(model)) {
-    // the filter takes expression terms by quadrature (user_expectation.hpp): correct, but
-    // slower than the catalogue's closed forms by far more than a default may cost
-    out.warnings.push_back("likelihood not run by default on a model with expression terms (its filter "
-                           "evaluates them by quadrature, far slower than the catalogue's terms); the "
-                           "moment fit stands. \"likelihood\": {\"use\": \"always\"} runs it");
-    return out;
-  }
   likelihood::RefineOptions o = settings.options;
   if (settings.input_auto && model.uses_drive() && data.has_u()) {
     const likelihood::InputReading reading = likelihood::read_input_interpolation(data);

@@ -4,7 +4,9 @@
 // the moment equations need (moment_system.hpp). g is known only by its values, so:
 //
 // * g of one state variable z ~ N(m, s²) (x or y; u is known over the step): g is sampled on a
-//   fixed grid of 129 points over m₀ ± 8 s₀ (spacing h = s₀/8) (m₀, s₀ the values of m, s) and replaced by its
+//   fixed grid of 129 points over m₀ ± 8 s₀ (spacing h = s₀/8) (m₀, s₀ the values of m, s;
+//   straight stretches of a first pass at 4h are filled by their lines, so a feature narrower
+//   than 4h that leaves no trace at that pass's points is not seen) and replaced by its
 //   piecewise-linear interpolant, with each jump (an interval whose step dwarfs its neighbours')
 //   located by bisection and kept as a step, and each kink (a slope change far larger than
 //   around it) placed where the neighbouring lines meet. Exact for piecewise-linear g (friction
@@ -36,15 +38,38 @@ namespace user_detail {
 inline constexpr int kGrid = 128;      ///< intervals of the one-variable grid
 inline constexpr double kSpan = 8.0;   ///< grid half-width in standard deviations
 
+inline constexpr int kCoarse = 4;     ///< grid intervals per interval of the first, coarse pass
+
+/// g on the grid z: first every kCoarse-th point; a coarse interval whose ends both have a second
+/// difference at the rounding level of g (a straight stretch: the interpolation error is below
+/// 1e-12·|g|) is filled by its line, any other sampled point by point. A step, a hinge or |y|
+/// costs a few dozen evaluations instead of the grid's 129; a curved g all of them.
+template <class G>
+void sample(const G& at, const std::array<double, kGrid + 1>& z, std::array<double, kGrid + 1>& g) {
+  constexpr int nc = kGrid / kCoarse;
+  for (int i = 0; i <= nc; ++i) g[i * kCoarse] = at(z[i * kCoarse]);
+  std::array<bool, nc + 1> bends{};
+  for (int i = 1; i < nc; ++i) {
+    const double a = g[(i - 1) * kCoarse], b = g[i * kCoarse], c = g[(i + 1) * kCoarse];
+    bends[i] = std::abs(a - 2.0 * b + c) > 1e-12 * (std::abs(a) + 2.0 * std::abs(b) + std::abs(c));
+  }
+  bends[0] = bends[1];
+  bends[nc] = bends[nc - 1];
+  for (int i = 0; i < nc; ++i) {
+    const int k0 = i * kCoarse;
+    const bool straight = !bends[i] && !bends[i + 1];
+    for (int j = 1; j < kCoarse; ++j)
+      g[k0 + j] = straight ? g[k0] + (g[k0 + kCoarse] - g[k0]) * (double(j) / kCoarse) : at(z[k0 + j]);
+  }
+}
+
 /// E[g(z)] and ∂/∂m of it for z ~ N(m, s²), g given by `at(z)` (double).
 template <class T, class G>
 void one_variable(const G& at, const T& m, const T& s, T& value, T& d_mean) {
   const double m0 = value_of(m), s0 = value_of(s);
   std::array<double, kGrid + 1> z{}, g{};
-  for (int k = 0; k <= kGrid; ++k) {
-    z[k] = m0 + s0 * kSpan * (2.0 * k / kGrid - 1.0);
-    g[k] = at(z[k]);
-  }
+  for (int k = 0; k <= kGrid; ++k) z[k] = m0 + s0 * kSpan * (2.0 * k / kGrid - 1.0);
+  sample(at, z, g);
   // the interpolant written as g(z) = g₀ + Σ a_j·(z − t_j)⁺ + Σ J_i·1{z > c_i} (constant beyond
   // the grid): its slope changes a_j and jumps J_i, collected segment by segment
   struct Knot {
@@ -93,15 +118,23 @@ void one_variable(const G& at, const T& m, const T& s, T& value, T& d_mean) {
       }
       continue;
     }
-    // a step: locate where g crosses the middle of its two values
+    // a step: locate where g crosses the middle of its two values, to 2⁻⁴⁰ of the interval
+    // (a friction's or a stop's jump stays put from call to call: the thread's last location is
+    // tried first and kept when the crossing lies within that precision of it)
     const double mid = 0.5 * (g[k] + g[k + 1]);
     const bool rising = g[k + 1] > g[k];
-    double lo = z[k], hi = z[k + 1];
-    for (int it = 0; it < 40; ++it) {
-      const double c = 0.5 * (lo + hi);
-      ((at(c) > mid) == rising ? hi : lo) = c;
+    const double precision = std::ldexp(z[k + 1] - z[k], -40);
+    thread_local double last = 0.0;
+    auto above = [&](double c) { return (at(c) > mid) == rising; };
+    double c = last;
+    if (!(c - precision > z[k] && c + precision < z[k + 1] && above(c + precision) && !above(c - precision))) {
+      double lo = z[k], hi = z[k + 1];
+      for (int it = 0; it < 40; ++it) {
+        const double t = 0.5 * (lo + hi);
+        (above(t) ? hi : lo) = t;
+      }
+      c = last = 0.5 * (lo + hi);
     }
-    const double c = 0.5 * (lo + hi);
     segment(z[k], c, g[k], g[k]);
     segment(c, z[k + 1], g[k + 1], g[k + 1]);
   }
@@ -142,11 +175,11 @@ UserMoments<T> expect_user(const Term& term, const T& mx, const T& my, const T& 
   using std::exp;
   using std::log;
   using std::sqrt;
-  const UserFunction& f = *term.fn;
+  const UserFunction::Local f = term.fn->local();
   UserMoments<T> r;
   const double mx0 = value_of(mx), my0 = value_of(my);
-  if (!f.uses_x() || !f.uses_y()) {
-    if (f.uses_y())
+  if (!term.fn->uses_x() || !term.fn->uses_y()) {
+    if (term.fn->uses_y())
       user_detail::one_variable([&](double y) { return f(mx0, y, u); }, my, T(sqrt(pyy)), r.value, r.dy);
     else
       user_detail::one_variable([&](double x) { return f(x, my0, u); }, mx,
