@@ -2,6 +2,7 @@
 // A self-contained HTML report: every figure is an SVG rendered by gnuplot, embedded in the page
 // as a data URI (the page works when moved alone), while the SVG, its data CSV and its gnuplot
 // script stay beside the page so users can restyle them.
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,8 @@ class Report {
   Report(std::string folder, std::string title) : folder_(std::move(folder)), title_(std::move(title)) {}
 
   const std::string& folder() const { return folder_; }
+  /// The section of that title, added at the end when new; the reference stays valid while the
+  /// report lives (further sections do not move it).
   ReportSection& section(const std::string& title);
 
   /// Writes <name>.csv (from `data`) and renders <name>.svg from the gnuplot `body` (which
@@ -60,7 +63,7 @@ class Report {
 
  private:
   std::string folder_, title_;
-  std::vector<ReportSection> sections_;
+  std::deque<ReportSection> sections_;  ///< (a vector moved them: a held reference dangled)
 };
 
 /// HTML-escapes text.

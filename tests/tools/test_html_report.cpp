@@ -47,3 +47,12 @@ TEST_CASE("a figure that cannot render is reported in the page, not silently dro
   ss << in.rdbuf();
   CHECK(ss.str().find("figure not rendered") != std::string::npos);
 }
+
+TEST_CASE("a report section's reference stays valid while further sections are added", "[tools][report]") {
+  vehs::tools::Report report((fs::temp_directory_path() / "vehs_report_sections").string(), "sections");
+  vehs::tools::ReportSection& first = report.section("first");
+  for (int i = 0; i < 100; ++i) report.section("section " + std::to_string(i));
+  first.paragraphs.push_back("still here");  // a vector of sections moved it: a dangling reference
+  CHECK(&report.section("first") == &first);
+  CHECK(report.section("first").paragraphs.size() == 1);
+}
