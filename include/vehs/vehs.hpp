@@ -13,6 +13,7 @@
 #include "vehs/core/progress.hpp"
 #include "vehs/core/statistics.hpp"
 #include "vehs/core/terms.hpp"
+#include "vehs/core/user_effect.hpp"
 // io: measurement files, model files, atomic outputs
 #include "vehs/io/atomic_file.hpp"
 #include "vehs/io/json_file.hpp"

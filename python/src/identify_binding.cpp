@@ -106,6 +106,7 @@ std::string fit_options_repr(const PyFitOptions& p) {
   const FitOptions& o = p.options;
   std::string effects;
   for (const Effect& e : o.moment.effects) effects += (effects.empty() ? "'" : ", '") + e.name() + "'";
+  for (const UserEffect& e : o.moment.user_effects) effects += (effects.empty() ? "'" : ", '") + e.name + "'";
   auto list = [](const std::vector<std::string>& v) {
     std::string s;
     for (const std::string& t : v) s += (s.empty() ? "'" : ", '") + t + "'";
@@ -152,8 +153,10 @@ void bind_fit_options(nb::module_& m) {
                    [](const PyFitOptions& p) {
                      std::vector<std::string> out;
                      for (const Effect& e : p.options.moment.effects) out.push_back(e.name());
+                     for (const UserEffect& e : p.options.moment.user_effects) out.push_back(e.name);
                      return out;
-                   })
+                   },
+                   "The requested effects' names: the catalogue's, then the user's own.")
       .def_prop_rw(
           "glitches", [](const PyFitOptions& p) { return enum_to_string(kCheckRuleNames, p.options.checks.glitches); },
           [](PyFitOptions& p, const std::string& v) { set_enum(p.options.checks.glitches, kCheckRuleNames, v, "glitches"); })

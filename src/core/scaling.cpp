@@ -20,6 +20,21 @@ double power_of_ten_near(double v) {
   return std::pow(10.0, std::round(std::log10(v)));
 }
 
+/// A user term's typical size at the scales: the largest |g| of its physical expression over the
+/// states (±L, ±L/T, ±U), to the nearest power of ten (1 where g vanishes there). Its internal
+/// values are g/size, O(1) like the other terms' (a hardening spring "-x^3" in metres is 1e-9:
+/// its standard error came out "not positive" from the score covariance's round-off).
+double user_term_size(const Term& t, const Scales& s) {
+  const auto g = UserFunction::parse(t.fn->text());
+  double size = 0.0;
+  for (int k = 0; k < 8; ++k) {
+    const double v = std::abs((*g)((k & 1 ? -1.0 : 1.0) * s.length, (k & 2 ? -1.0 : 1.0) * s.length / s.time,
+                                   (k & 4 ? -1.0 : 1.0) * s.input));
+    if (std::isfinite(v)) size = std::max(size, v);
+  }
+  return power_of_ten_near(size);
+}
+
 /// Physical value of one internal unit of the term's own value.
 double term_scale(const Term& t, const Scales& s) {
   const double v = s.length / s.time;
@@ -28,16 +43,17 @@ double term_scale(const Term& t, const Scales& s) {
     case TermKind::SignY: return 1.0;
     case TermKind::YAbsY: return v * v;
     case TermKind::Drive: return s.input;
-    case TermKind::User: return 1.0;  // its function is rescaled instead (rescale_user_terms)
+    case TermKind::User: return user_term_size(t, s);  // and its function rescaled (rescale_user_terms)
   }
   return 1.0;
 }
 
-/// User terms evaluated at the other units' state: g(L^−power·x, …) (k = scale^−power).
+/// User terms evaluated at the other units' state over their size: g(L^−power·x, …)·size^power.
 void rescale_user_terms(TermList& terms, const Scales& s, int power) {
   const double kx = std::pow(s.length, -power), ky = std::pow(s.length / s.time, -power),
                ku = std::pow(s.input, -power);
-  for (auto& tc : terms) tc.term = rescaled(tc.term, kx, ky, ku);
+  for (auto& tc : terms)
+    if (tc.term.is_user()) tc.term = rescaled(tc.term, kx, ky, ku, std::pow(user_term_size(tc.term, s), power));
 }
 
 double acceleration(const Scales& s) { return s.length / (s.time * s.time); }
@@ -71,7 +87,8 @@ void scale_terms(TermList& terms, std::map<std::string, double>& errors, double 
 }
 
 std::vector<Term> terms_to_internal(std::vector<Term> terms, const Scales& s) {
-  for (auto& t : terms) t = rescaled(t, s.length, s.length / s.time, s.input);
+  for (auto& t : terms)
+    if (t.is_user()) t = rescaled(t, s.length, s.length / s.time, s.input, 1.0 / user_term_size(t, s));
   return terms;
 }
 

@@ -226,21 +226,23 @@ double Term::d2_dxdy(double x, double y, double u) const {
   return kind == TermKind::Monomial ? dpow(x, px) * dpow(y, py) : 0.0;
 }
 
-Term rescaled(const Term& t, double kx, double ky, double ku) {
+Term rescaled(const Term& t, double kx, double ky, double ku, double kvalue) {
   if (t.kind != TermKind::User) return t;
-  return Term::user(t.fn->rescaled(kx, ky, ku));
+  return Term::user(t.fn->rescaled(kx, ky, ku, kvalue));
 }
 
 bool operator<(const Term& a, const Term& b) {
   if (a.kind == TermKind::User && b.kind == TermKind::User)
-    return std::make_tuple(a.fn->text(), a.fn->scales()) < std::make_tuple(b.fn->text(), b.fn->scales());
+    return std::make_tuple(a.fn->text(), a.fn->scales(), a.fn->value_factor()) <
+           std::make_tuple(b.fn->text(), b.fn->scales(), b.fn->value_factor());
   return std::make_tuple(static_cast<int>(a.kind), a.py, a.px) <
          std::make_tuple(static_cast<int>(b.kind), b.py, b.px);
 }
 
 bool operator==(const Term& a, const Term& b) {
   if (a.kind == TermKind::User || b.kind == TermKind::User)
-    return a.kind == b.kind && a.fn->text() == b.fn->text() && a.fn->scales() == b.fn->scales();
+    return a.kind == b.kind && a.fn->text() == b.fn->text() && a.fn->scales() == b.fn->scales() &&
+           a.fn->value_factor() == b.fn->value_factor();
   return a.kind == b.kind && a.px == b.px && a.py == b.py;
 }
 

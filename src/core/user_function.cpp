@@ -1,6 +1,7 @@
 #include "vehs/core/user_function.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <cctype>
 #include <unordered_map>
@@ -62,22 +63,29 @@ std::shared_ptr<const UserFunction> UserFunction::parse(std::string_view text) {
   return f;
 }
 
-std::shared_ptr<const UserFunction> UserFunction::rescaled(double kx, double ky, double ku) const {
+std::shared_ptr<const UserFunction> UserFunction::rescaled(double kx, double ky, double ku, double kvalue) const {
+  // a round trip (to internal units and back) returns the physical function exactly, so that it
+  // equals the parsed one: 1e-9 · 1e9 is 1 + 2.2e-16 in floating point
+  auto compound = [](double a, double b) {
+    const double c = a * b;
+    return std::abs(c - 1.0) < 1e-12 ? 1.0 : c;
+  };
   std::shared_ptr<UserFunction> f(new UserFunction(*this));
-  f->scales_ = {scales_[0] * kx, scales_[1] * ky, scales_[2] * ku};
+  f->scales_ = {compound(scales_[0], kx), compound(scales_[1], ky), compound(scales_[2], ku)};
+  f->value_ = compound(value_, kvalue);
   return f;  // same text: the per-thread parsers are shared
 }
 
 double UserFunction::operator()(double x, double y, double u) const { return local()(x, y, u); }
 
-UserFunction::Local UserFunction::local() const { return Local(&instance(id_, text_), scales_); }
+UserFunction::Local UserFunction::local() const { return Local(&instance(id_, text_), scales_, value_); }
 
 double UserFunction::Local::operator()(double x, double y, double u) const {
   Instance& in = *static_cast<Instance*>(instance_);
   in.x = scales_[0] * x;
   in.y = scales_[1] * y;
   in.u = scales_[2] * u;
-  return in.parser.Eval();
+  return value_ * in.parser.Eval();
 }
 
 }  // namespace vehs

@@ -26,13 +26,15 @@ std::vector<Candidate> significant_suspects(const Result& res) {
   // a forcing with one phase per record is refitted so only when it is the more significant form
   auto add = [&](const std::string& name, const std::string& evidence, double all_data_z) {
     const bool per_record = name == "harmonic_forcing_per_record";
-    const EffectId id = enum_from_string(kEffectNames, per_record ? "harmonic_forcing" : name, "suspect");
+    Candidate cand{EffectId{}, evidence, per_record, all_data_z};
+    if (const UserEffect* u = find_user_effect(res.user_effects, name)) cand.user = *u;
+    else cand.id = enum_from_string(kEffectNames, per_record ? "harmonic_forcing" : name, "suspect");
     for (Candidate& c : out)
-      if (c.id == id) {
+      if (c.name() == cand.name()) {
         c.evidence += "; " + evidence;
         return;
       }
-    out.push_back({id, evidence, per_record, all_data_z});
+    out.push_back(std::move(cand));
   };
   const double none = std::numeric_limits<double>::quiet_NaN();
   for (const auto& s : res.score_suspects.ranked)
@@ -82,7 +84,7 @@ double smallest_p(const Result& res) {
 bool strongest_refit_failed(Result& res) {
   const std::vector<Candidate> ranked = significant_suspects(res);
   if (ranked.empty()) return false;
-  const std::string name = enum_to_string(kEffectNames, ranked.front().id);
+  const std::string name = ranked.front().name();
   for (const Confirmation& e : res.confirmation.effects)
     if (e.effect == name && !e.error.empty()) {
       res.recommended = {name};
@@ -114,7 +116,7 @@ void conclude(Result& res, bool confirmed_by_refits) {
   }
   const ConfirmationReport& c = res.confirmation;
   if (!confirmed_by_refits || !c.ran) {
-    for (const Candidate& s : significant_suspects(res)) res.recommended.push_back(enum_to_string(kEffectNames, s.id));
+    for (const Candidate& s : significant_suspects(res)) res.recommended.push_back(s.name());
     res.conclusion = "inadequate — " + (res.recommended.empty() ? std::string("no catalogue effect is significant")
                                                                  : "suspects: " + join(res.recommended, ", ")) +
                      "; " + failing_components(res) +

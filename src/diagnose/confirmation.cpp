@@ -101,12 +101,24 @@ InputInterpolation input_of(const Model& model) {
 /// The refit's options for vehs::fit: identify's moment fit through the lens with the model's own
 /// libraries, then (refits by the likelihood) the likelihood with the support fixed, started at
 /// the model's measurement noise and forcing phases when it was so fitted, else at the lens's noise.
-FitOptions refit_fit_options(const Model& model, const Lens& lens, const Dataset& train, const std::vector<Effect>& added,
+/// Effects added to the model's own in a refit: the catalogue's and the user's.
+struct Added {
+  std::vector<Effect> effects;
+  std::vector<UserEffect> user;
+};
+
+Added added_of(const Candidate& c) {
+  if (c.user) return {{}, {*c.user}};
+  return {{Effect{c.id, {}, {}}}, {}};
+}
+
+FitOptions refit_fit_options(const Model& model, const Lens& lens, const Dataset& train, const Added& added,
                              bool added_per_record) {
   FitOptions f;
   f.run_checks = false;
   f.moment = refit_options(model, lens);
-  f.moment.effects.insert(f.moment.effects.end(), added.begin(), added.end());
+  f.moment.effects.insert(f.moment.effects.end(), added.effects.begin(), added.effects.end());
+  f.moment.user_effects = added.user;
   f.libraries_given = {true, true};
   f.folds_given = true;
   f.likelihood_starts = false;
@@ -129,7 +141,7 @@ FitOptions refit_fit_options(const Model& model, const Lens& lens, const Dataset
   return f;
 }
 
-Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const std::vector<Effect>& added,
+Refit refit_on(const Model& model, const Lens& lens, const Dataset& train, const Added& added,
                bool added_per_record = false) {
   const FitSummary s = fit(train, refit_fit_options(model, lens, train, added, added_per_record));
   if (!s.refinement.failure.empty()) throw Error(s.refinement.failure);  // a refit that fails is not confirmed
@@ -269,7 +281,13 @@ void judge(Confirmation& c, const PieceScores& base, const PieceScores& with, co
   c.reason = (c.confirmed ? "confirmed: " : "not confirmed: ") + why;
 }
 
-void fill_params(Confirmation& c, const Model& m, EffectId id) {
+void fill_params(Confirmation& c, const Model& m, const Candidate& cand) {
+  if (cand.user) {
+    const UserEffectFit f = user_effect_fit(m, *cand.user);
+    c.params = f.params, c.params_stderr = f.stderr_;
+    return;
+  }
+  const EffectId id = cand.id;
   if (effect_spec(id).term_like) {
     for (const Effect& e : identify::effect_parameters(m, {Effect{id, {}, {}}})) c.params = e.params, c.params_stderr = e.stderr_;
     return;
@@ -282,14 +300,26 @@ void fill_params(Confirmation& c, const Model& m, EffectId id) {
 /// scales (λ, τ, ω, the gap), nor a phase.
 bool measures_size(const EffectParamSpec& p) { return !p.strictly_positive && p.name != "phase"; }
 
+/// The parameters of c.effect that measure its size (every parameter of a user's effect).
+std::vector<std::string> size_parameters(const Confirmation& c) {
+  std::vector<std::string> out;
+  if (c.user_effect) {
+    for (const auto& [name, value] : c.params) out.push_back(name);
+    return out;
+  }
+  for (const EffectParamSpec& p : effect_spec(enum_from_string(kEffectNames, c.effect, "effect")).params)
+    if (measures_size(p)) out.emplace_back(p.name);
+  return out;
+}
+
 /// "coupling 0.114 ± 0.074 (z 1.5)" for those parameters.
 std::string size_text(const Confirmation& c) {
   std::string t;
-  for (const EffectParamSpec& p : effect_spec(enum_from_string(kEffectNames, c.effect, "effect")).params) {
-    const auto v = c.params.find(std::string(p.name));
-    const auto se = c.params_stderr.find(std::string(p.name));
-    if (!measures_size(p) || v == c.params.end() || se == c.params_stderr.end() || !(se->second > 0.0)) continue;
-    t += (t.empty() ? "" : ", ") + std::string(p.name) + " " + fmt(v->second) + " ± " + fmt(se->second) + " (z " +
+  for (const std::string& p : size_parameters(c)) {
+    const auto v = c.params.find(p);
+    const auto se = c.params_stderr.find(p);
+    if (v == c.params.end() || se == c.params_stderr.end() || !(se->second > 0.0)) continue;
+    t += (t.empty() ? "" : ", ") + p + " " + fmt(v->second) + " ± " + fmt(se->second) + " (z " +
          fmt(std::abs(v->second) / se->second) + ")";
   }
   return t.empty() ? "no size parameter with a standard error" : t;
@@ -300,8 +330,9 @@ std::string size_text(const Confirmation& c) {
 /// stays confirmed (held-out evidence only: the largest gain); each further one must improve on
 /// the refit with those kept before it by z_threshold, else it is not confirmed ("adds nothing
 /// beyond …"). Needs the filter's criterion (refits by the likelihood).
-void confirm_jointly(ConfirmationReport& rep, const std::vector<PieceScores>& alone_scores, const Model& model,
-                     const Lens& lens, const Split& split, const Judging& judging, const ConfirmationOptions& o) {
+void confirm_jointly(ConfirmationReport& rep, const std::vector<Candidate>& tried,
+                     const std::vector<PieceScores>& alone_scores, const Model& model, const Lens& lens,
+                     const Split& split, const Judging& judging, const ConfirmationOptions& o) {
   const InputInterpolation input = input_of(model);
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < rep.effects.size(); ++i)
@@ -314,26 +345,29 @@ void confirm_jointly(ConfirmationReport& rep, const std::vector<PieceScores>& al
     return !sa && rep.effects[a].loglik_gain > rep.effects[b].loglik_gain;
   });
   if (order.size() < 2) return;
-  std::vector<Effect> kept{Effect{enum_from_string(kEffectNames, rep.effects[order[0]].effect, "effect"), {}, {}}};
+  Added kept = added_of(tried[order[0]]);
   std::string kept_names = rep.effects[order[0]].effect;
   PieceScores kept_scores = alone_scores[order[0]];
   bool per_record = rep.effects[order[0]].per_record_phase;  // a kept forcing with one phase per record
   for (std::size_t k = 1; k < order.size(); ++k) {
     Confirmation& c = rep.effects[order[k]];
     const std::string alone = c.reason.substr(c.reason.find(':') + 2);
-    const EffectId id = enum_from_string(kEffectNames, c.effect, "effect");
-    if (std::any_of(kept.begin(), kept.end(), [&](const Effect& e) { return e.id == id; })) {
+    const Candidate& cand = tried[order[k]];
+    if (!cand.user && std::any_of(kept.effects.begin(), kept.effects.end(), [&](const Effect& e) { return e.id == cand.id; })) {
       c.confirmed = false;  // the shared and the per-record forcing: one form is kept
       c.reason = "not confirmed: the other form of " + c.effect + " is kept (alone: " + alone + ")";
       continue;
     }
-    std::vector<Effect> with_effects = kept;
-    with_effects.push_back(Effect{id, {}, {}});
+    Added with_effects = kept;
+    const Added mine = added_of(cand);
+    with_effects.effects.insert(with_effects.effects.end(), mine.effects.begin(), mine.effects.end());
+    with_effects.user.insert(with_effects.user.end(), mine.user.begin(), mine.user.end());
     Confirmation joint;
     joint.effect = c.effect;
     try {
       const Refit r = refit_on(model, lens, split.train, with_effects, per_record || c.per_record_phase);
-      fill_params(joint, r.model, id);
+      joint.user_effect = c.user_effect;
+      fill_params(joint, r.model, cand);
       PieceScores with = score_pieces(r, split, input, true, rep.driven, o.free_run_skip);
       with.trace = {};
       judge(joint, kept_scores, with, nullptr, judging);  // no all-data evidence beyond the kept: z_threshold
@@ -387,9 +421,9 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
                                    fmt(o.consistency_margin) + " standard errors, and not worse)"
                              : "the held-out suspects' one-step drift contrast must improve by > " + fmt(o.z_threshold) +
                                    " standard errors");
-  auto heldout_of = [&](EffectId id) -> const Suspect* {
+  auto heldout_of = [&](const std::string& name) -> const Suspect* {
     for (const Suspect& sp : heldout.ranked)
-      if (sp.effect == enum_to_string(kEffectNames, id) && std::isfinite(sp.z)) return &sp;
+      if (sp.effect == name && std::isfinite(sp.z)) return &sp;
     return nullptr;
   };
   if (rep.pieces < 3) {
@@ -426,17 +460,18 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
   for (const Candidate& cand : candidates) {
     if (static_cast<int>(rep.effects.size()) >= o.max_effects) break;
     Confirmation c;
-    c.effect = enum_to_string(kEffectNames, cand.id);
+    c.effect = cand.name();
+    c.user_effect = cand.user.has_value();
     c.per_record_phase = cand.per_record_phase;
     c.evidence = cand.evidence;
     c.all_data_z = cand.all_data_z;
     try {
-      const Suspect* h = by_filter ? nullptr : heldout_of(cand.id);
+      const Suspect* h = by_filter ? nullptr : heldout_of(cand.name());
       if (!by_filter && !h) throw Error("no held-out evidence (the held-out suspects did not test it)");
       PieceScores with;
       if (by_filter || rep.driven) {
-        const Refit r = refit_on(model, lens, split.train, {Effect{cand.id, {}, {}}}, cand.per_record_phase);
-        fill_params(c, r.model, cand.id);
+        const Refit r = refit_on(model, lens, split.train, added_of(cand), cand.per_record_phase);
+        fill_params(c, r.model, cand);
         with = score_pieces(r, split, input, by_filter, rep.driven, o.free_run_skip);
         if (by_filter)
           if (const ResidualSignature sig = residual_signature(split.held, with.trace, lens.dt); sig.features > 0)
@@ -448,7 +483,7 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
       // a term-like effect is stored as terms, so no file refuses e.g. a negative friction:
       // a recommendation must still be the catalogue's effect (Silverbox, second round:
       // coulomb_friction refitted with mu = −8.4)
-      if (const std::string why = effect_domain_violation(Effect{cand.id, c.params, {}}); !why.empty())
+      if (const std::string why = cand.user ? "" : effect_domain_violation(Effect{cand.id, c.params, {}}); !why.empty())
         throw Error("the refit is not usable: " + why);
       judge(c, base, with, h, judging);
       with.trace = {};
@@ -460,17 +495,17 @@ ConfirmationReport confirm_effects(const Model& model, const Dataset& data, cons
     }
     rep.effects.push_back(std::move(c));
   }
-  if (by_filter) confirm_jointly(rep, alone_scores, model, lens, split, judging, o);
+  if (by_filter) confirm_jointly(rep, candidates, alone_scores, model, lens, split, judging, o);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }
 
 double effect_size_z(const Confirmation& c) {
   double z = Confirmation::kNaN;
-  for (const EffectParamSpec& p : effect_spec(enum_from_string(kEffectNames, c.effect, "effect")).params) {
-    const auto v = c.params.find(std::string(p.name));
-    const auto se = c.params_stderr.find(std::string(p.name));
-    if (measures_size(p) && v != c.params.end() && se != c.params_stderr.end() && se->second > 0.0)
+  for (const std::string& p : size_parameters(c)) {
+    const auto v = c.params.find(p);
+    const auto se = c.params_stderr.find(p);
+    if (v != c.params.end() && se != c.params_stderr.end() && se->second > 0.0)
       z = std::isnan(z) ? std::abs(v->second) / se->second : std::max(z, std::abs(v->second) / se->second);
   }
   return z;

@@ -30,6 +30,10 @@ std::string Options::invalid_reason() const {
   if (!(parameter_fit_samples >= 1e4)) return "parameter_fit_samples must be >= 10000";
   if (auto why = score_suspects.invalid_reason(); !why.empty()) return why;
   if (auto why = confirm.invalid_reason(); !why.empty()) return why;
+  for (const auto& u : user_effects) {
+    if (auto why = u.invalid_reason(); !why.empty()) return "user_effects: " + why;
+    if (find_user_effect(user_effects, u.name) != &u) return "user_effects: '" + u.name + "' is listed twice";
+  }
   return suspects.invalid_reason();
 }
 
@@ -96,10 +100,14 @@ Result compare_with_twins(const Model& model, const Dataset& data, const Options
 
 }  // namespace detail
 
-Result diagnose(const Model& model, const Dataset& data, const Options& opt) {
+Result diagnose(const Model& model, const Dataset& data, const Options& given) {
   using detail::Phase;
   detail::Stopwatch watch;
+  Options opt = given;  // the user's effects are suspects of both kinds
+  for (auto* list : {&opt.suspects.user_effects, &opt.score_suspects.user_effects})
+    list->insert(list->end(), given.user_effects.begin(), given.user_effects.end());
   Result res = detail::compare_with_twins(model, data, opt, watch);
+  res.user_effects = given.user_effects;
   std::optional<Dataset> suspect_subset;
   if (opt.suspects.enabled) suspect_subset = detail::add_suspects(model, data, opt, res, watch);
   if (opt.score_suspects.enabled) {

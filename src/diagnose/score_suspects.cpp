@@ -119,68 +119,96 @@ struct LookAlike {
   double sign = 1.0, coefficient = 0.0;
 };
 
+/// A term-like suspect: a catalogue effect's or a user's, each parameter one term's coefficient
+/// (term coefficient = sign × parameter).
+struct TermSlot {
+  std::string param, name;  ///< the parameter, and its name in the likelihood ("drift[sign(y)]")
+  double sign;
+  Term term;
+  bool diffusion;
+};
+struct TermGroup {
+  std::string effect;
+  std::optional<EffectId> id;  ///< empty: a user's effect
+  std::vector<TermSlot> slots;
+  bool one_sided = false;  ///< one parameter with a sign (μ, c, q ≥ 0): a one-sided z
+};
+
+TermSlot term_slot(const std::string& param, const Term& term, double sign, bool diffusion) {
+  return {param, std::string(diffusion ? "diffusion[" : "drift[") + term.name() + "]", sign, term, diffusion};
+}
+
+/// The catalogue's term-like effects `ids` and the user's effects as groups of the terms the model
+/// lacks; an effect whose terms are all in the model is untested.
+std::vector<TermGroup> term_groups(const Context& c, const std::vector<EffectId>& ids,
+                                   std::vector<std::pair<std::string, std::string>>& untested) {
+  std::vector<TermGroup> groups;
+  auto keep = [&](TermGroup g) {
+    if (g.slots.empty()) untested.emplace_back(g.effect, "its terms are already in the model");
+    else groups.push_back(std::move(g));
+  };
+  auto lacks = [&](const Term& t, bool diffusion) {
+    return coefficient(diffusion ? c.model.diffusion : c.model.drift, t) == 0.0;
+  };
+  for (const EffectId id : ids) {
+    TermGroup g{std::string(effect_spec(id).name), id, {}, false};
+    for (const auto& ps : effect_spec(id).params) {
+      const EffectTerms t = effect_terms(Effect{id, {{std::string(ps.name), 1.0}}, {}});
+      const bool diffusion = t.drift.empty();
+      const TermCoef& tc = diffusion ? t.diffusion.front() : t.drift.front();
+      if (lacks(tc.term, diffusion)) g.slots.push_back(term_slot(std::string(ps.name), tc.term, tc.coef, diffusion));
+    }
+    g.one_sided = g.slots.size() == 1 && effect_spec(id).params.front().lower_bound >= 0.0;
+    keep(std::move(g));
+  }
+  for (const UserEffect& u : c.options.user_effects) {
+    TermGroup g{u.name, std::nullopt, {}, false};
+    for (const UserEffectParam& p : u.params)
+      if (lacks(p.term, p.diffusion)) g.slots.push_back(term_slot(p.name, p.term, 1.0, p.diffusion));
+    keep(std::move(g));
+  }
+  return groups;
+}
+
 /// Term-like effects: their coefficients at 0 in the drift / diffusion, all from one filter pass
 /// (each tested against the model's own terms, the other candidates held at 0).
 std::vector<ScoreSuspect> term_effects(const Context& c, const std::vector<EffectId>& ids,
                                        std::vector<std::pair<std::string, std::string>>& untested,
                                        std::vector<LookAlike>& look_alikes) {
-  struct Slot {
-    std::string param, name;
-    double sign;
-    Term term;
-  };
-  Model m = c.model;
-  std::vector<std::vector<Slot>> slots;
-  std::vector<EffectId> tested_ids;
-  for (const EffectId id : ids) {
-    std::vector<Slot> mine;
-    for (const auto& ps : effect_spec(id).params) {
-      Effect e{id, {{std::string(ps.name), 1.0}}, {}};
-      const EffectTerms t = effect_terms(e);
-      const bool drift = !t.drift.empty();
-      const TermCoef& tc = drift ? t.drift.front() : t.diffusion.front();
-      TermList& list = drift ? m.drift : m.diffusion;
-      if (coefficient(list, tc.term) != 0.0) continue;  // already in the model
-      list.push_back({tc.term, kTiny * tc.coef});
-      mine.push_back({std::string(ps.name), std::string(drift ? "drift[" : "diffusion[") + tc.term.name() + "]",
-                      tc.coef, tc.term});
-    }
-    if (mine.empty()) {
-      untested.emplace_back(std::string(effect_spec(id).name), "its terms are already in the model");
-      continue;
-    }
-    slots.push_back(std::move(mine));
-    tested_ids.push_back(id);
-  }
+  const std::vector<TermGroup> groups = term_groups(c, ids, untested);
   std::vector<ScoreSuspect> out;
-  if (slots.empty()) return out;
+  if (groups.empty()) return out;
+  Model m = c.model;
+  std::vector<std::vector<std::string>> names;
+  for (const TermGroup& g : groups) {
+    names.emplace_back();
+    for (const TermSlot& sl : g.slots) {
+      TermList& list = sl.diffusion ? m.diffusion : m.drift;
+      if (coefficient(list, sl.term) == 0.0) list.push_back({sl.term, kTiny * sl.sign});  // (once: groups may share a term)
+      names.back().push_back(sl.name);
+    }
+  }
   canonicalize(m.drift, "score suspects");
   canonicalize(m.diffusion, "score suspects");
-  std::vector<std::vector<std::string>> groups;
-  for (const auto& g : slots) {
-    groups.emplace_back();
-    for (const auto& sl : g) groups.back().push_back(sl.name);
-  }
   const likelihood::ObservedModel om = observed(c, m, c.data);
-  const std::vector<likelihood::ScoreTestResult> rs = likelihood::score_tests(om, c.data, groups, c.test_options);
-  for (std::size_t k = 0; k < slots.size(); ++k) {
-    const EffectSpec& spec = effect_spec(tested_ids[k]);
+  const std::vector<likelihood::ScoreTestResult> rs = likelihood::score_tests(om, c.data, names, c.test_options);
+  for (std::size_t k = 0; k < groups.size(); ++k) {
+    const TermGroup& g = groups[k];
     const likelihood::ScoreTestResult& r = rs[k];
-    const std::vector<Slot>& sl = slots[k];
+    const std::vector<TermSlot>& sl = g.slots;
     ScoreSuspect s;
-    s.effect = spec.name;
+    s.effect = g.effect;
     s.statistic = r.statistic;
     s.dof = r.dof;
-    s.add = add_fragment(spec.name);
+    s.add = g.id ? add_fragment(g.effect) : "";
     for (std::size_t i = 0; i < sl.size(); ++i) {
       s.params[sl[i].param] = r.estimate[i] / sl[i].sign;
       s.params_stderr[sl[i].param] = r.stderrs[i];
-      const bool look_alike = (tested_ids[k] == EffectId::QuadraticDamping && sl.size() == 1) ||
-                              (tested_ids[k] == EffectId::NonlinearDamping && sl[i].name == "drift[y^3]");
-      if (look_alike) look_alikes.push_back({std::string(spec.name), sl[i].name, sl[i].term, sl[i].sign, r.estimate[i]});
+      const bool look_alike = (g.id == EffectId::QuadraticDamping && sl.size() == 1) ||
+                              (g.id == EffectId::NonlinearDamping && sl[i].name == "drift[y^3]");
+      if (look_alike) look_alikes.push_back({g.effect, sl[i].name, sl[i].term, sl[i].sign, r.estimate[i]});
     }
-    const bool signed_param = sl.size() == 1 && spec.params.front().lower_bound >= 0.0;
-    if (signed_param) {
+    if (g.one_sided) {
       const double z = r.z * sl[0].sign;  // z of the effect's parameter (μ, c, q ≥ 0)
       s.statistic = z;
       s.log_p = log_normal_sf(z);
@@ -568,7 +596,7 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
     names.push_back(name);
   }
   try {
-    if (!term_ids.empty()) {
+    if (!term_ids.empty() || !options.user_effects.empty()) {
       try {
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<ScoreSuspect> terms = term_effects(c, term_ids, rep.untested, look_alikes);
@@ -576,6 +604,7 @@ ScoreSuspectReport score_suspects(const Model& model, const Dataset& all, double
         for (auto& t : terms) t.seconds = sec, rep.ranked.push_back(std::move(t));
       } catch (const std::exception& e) {
         for (const EffectId id : term_ids) untested(std::string(effect_spec(id).name), e.what());
+        for (const UserEffect& u : options.user_effects) untested(u.name, e.what());
       }
       if (options.tested) options.tested();
     }

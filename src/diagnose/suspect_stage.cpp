@@ -147,9 +147,7 @@ void add_score_suspects(const Model& model, const Dataset& data, const Options& 
 void confirm_contenders(const Model& model, const Dataset& data, const Lens& lens, const Options& opt,
                         SuspectReport& rep) {
   auto& ranked = rep.ranked;
-  auto method = [](const std::string& effect) {
-    return suspect_method(enum_from_string(kEffectNames, effect, "suspect"));
-  };
+  auto method = [](const std::string& effect) { return suspect_method(effect); };
   auto contender = [&](const std::string& effect) {
     const SuspectMethod m = method(effect);
     return m == SuspectMethod::DynamicForce || m == SuspectMethod::ColoredExcitation;

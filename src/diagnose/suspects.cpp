@@ -46,6 +46,7 @@ struct Fitted {
   std::string name;
   SuspectMethod method = SuspectMethod::DriftTerms;
   Effect effect;
+  const UserEffect* user = nullptr;  ///< a user's effect (then `effect` is unused)
   Model model;
   CompiledTerms drift, diffusion;
   std::vector<std::string> added;
@@ -81,6 +82,12 @@ SuspectMethod suspect_method(EffectId id) {
   for (const auto& e : suspect_table())
     if (e.id == id) return e.method;
   return SuspectMethod::NotYet;
+}
+
+SuspectMethod suspect_method(const std::string& effect) {
+  for (const auto& e : suspect_table())
+    if (enum_to_string(kEffectNames, e.id) == effect) return e.method;
+  return SuspectMethod::DriftTerms;
 }
 
 identify::Options refit_options(const Model& model, const Lens& lens) {
@@ -144,7 +151,8 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
   const Dataset train = training_part(data, options.holdout);
   const identify::Options io = refit_options(model, lens);
   std::vector<Fitted> fits;
-  vehs::detail::ProgressCounter prog(options.progress, "suspects", static_cast<long long>(candidates.size()) + 2);
+  vehs::detail::ProgressCounter prog(options.progress, "suspects",
+                                     static_cast<long long>(candidates.size() + options.user_effects.size()) + 2);
   double sensor_sd = lens.sensor_noise_sd;
   try {
     const identify::Result base = identify::identify(train, io);
@@ -195,6 +203,33 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
       fits.push_back(std::move(f));
     } catch (const std::exception& e) {
       rep.untested.emplace_back(name, std::string("the fit failed: ") + e.what());
+    }
+    prog.advance();
+  }
+  for (const UserEffect& u : options.user_effects) {
+    std::vector<std::string> added;
+    bool drift = false;
+    for (const UserEffectParam& p : u.params) {
+      if (coefficient(p.diffusion ? model.diffusion : model.drift, p.term) != 0.0) continue;
+      added.push_back(p.term.name() + (p.diffusion ? " (diffusion)" : ""));
+      drift = drift || !p.diffusion;
+    }
+    if (added.empty()) {
+      rep.untested.emplace_back(u.name, "its terms are already in the model");
+    } else {
+      identify::Options o = io;
+      o.user_effects.push_back(u);
+      try {
+        Fitted f;
+        f.name = u.name;
+        f.method = drift ? SuspectMethod::DriftTerms : SuspectMethod::DiffusionTerms;
+        f.user = &u;
+        f.model = identify::identify(train, o).model;
+        f.added = added;
+        fits.push_back(std::move(f));
+      } catch (const std::exception& e) {
+        rep.untested.emplace_back(u.name, std::string("the fit failed: ") + e.what());
+      }
     }
     prog.advance();
   }
@@ -339,6 +374,10 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
         for (const auto& [key, val] : fe->params) sp.params[key] = val;
         for (const auto& [key, val] : fe->stderr_) sp.params_stderr[key] = val;
       }
+    } else if (f.user) {
+      const UserEffectFit uf = user_effect_fit(f.model, *f.user);
+      sp.params = uf.params;
+      sp.params_stderr = uf.stderr_;
     } else {
       const auto ep = identify::effect_parameters(f.model, {f.effect});
       if (!ep.empty()) {
@@ -346,7 +385,7 @@ SuspectReport rank_suspects(const Model& model, const Dataset& data, const Lens&
         sp.params_stderr = ep[0].stderr_;
       }
     }
-    sp.outside_domain = effect_domain_violation(Effect{f.effect.id, sp.params, {}});
+    if (!f.user) sp.outside_domain = effect_domain_violation(Effect{f.effect.id, sp.params, {}});
     if (!sp.outside_domain.empty()) sp.held_out_significant = sp.significant = false;
     sp.block_gain = gain;
     sp.terms = f.added;

@@ -37,13 +37,15 @@ namespace {
 /// The effects' parameters of the model the likelihood refined (the moment fit's are left in
 /// `dynamic_fit` and `selection` only): a model file with two values of one parameter, μ 0.0405
 /// under effect_params beside sign(y) −0.0519 in the drift, misled an outside tester.
-void refresh_effect_params(identify::Result& r, const std::vector<Effect>& requested) {
+void refresh_effect_params(identify::Result& r, const identify::Options& o) {
   std::vector<Effect> term_like;
-  for (const Effect& e : requested)
+  for (const Effect& e : o.effects)
     if (effect_spec(e.id).term_like) term_like.push_back(e);
   std::vector<Effect> params = identify::effect_parameters(r.model, term_like);
   for (const Effect& e : r.model.effects) params.push_back(e);
   r.report.effect_params = std::move(params);
+  r.report.user_effect_params.clear();
+  for (const UserEffect& u : o.user_effects) r.report.user_effect_params.push_back(user_effect_fit(r.model, u));
 }
 
 /// The moment fits of the estimators other than `chosen` (uli, noisy, forward), kept in `results`
@@ -96,6 +98,9 @@ void refine(FitSummary& s, const Dataset& data, const FitOptions& options, const
   lik.options.log = options.log;
   lik.progress = options.progress;
   if (lik.options.select) lik.options.candidate_drift = o.drift_library, lik.options.candidate_diffusion = o.diffusion_library;
+  const EffectTerms kept = identify::kept_terms(o);  // the requested effects' terms stay, as in identify's selection
+  for (const TermCoef& tc : kept.drift) lik.options.keep_drift.push_back(tc.term);
+  for (const TermCoef& tc : kept.diffusion) lik.options.keep_diffusion.push_back(tc.term);
   identify::Options quiet = o;
   quiet.progress = {};
   std::vector<std::optional<identify::Result>> others;  // the likelihood starts from every moment fit
@@ -117,7 +122,7 @@ void refine(FitSummary& s, const Dataset& data, const FitOptions& options, const
     chosen.report.estimator.requested = Estimator::Auto;
     s.result = std::move(chosen);
   }
-  if (s.refinement.result) refresh_effect_params(s.result, o.effects);
+  if (s.refinement.result) refresh_effect_params(s.result, o);
 }
 
 }  // namespace

@@ -17,6 +17,11 @@
 
 namespace vehs::identify {
 
+namespace {
+/// Standard errors of ρ_k − ρ_3k above 0 that refute an explicit scheme (white residuals: √(2/rows)).
+constexpr double kSchemeRefuted = 5.0;
+}  // namespace
+
 SamplingRule sampling_rule(double rho_k, double rho_2k, double rho_3k, double rows) {
   SamplingRule r;
   r.noise_share = std::clamp(6.0 * (rho_2k - rho_3k), 0.0, 1.0);
@@ -24,6 +29,17 @@ SamplingRule sampling_rule(double rho_k, double rho_2k, double rho_3k, double ro
   r.noisy = r.noise_share > std::max(0.05, 3.0 * se);
   const double eta = r.noisy ? r.noise_share : 0.0;
   r.continuous = (rho_k - rho_3k) + (2.0 / 3.0) * eta > (1.0 - eta) / 8.0;
+  if (!r.continuous && rho_k - rho_3k > kSchemeRefuted * std::sqrt(2.0 / std::max(rows, 1.0))) {
+    // lag k clearly ABOVE the lag-3k reference: no explicit scheme gives that at any noise share
+    // (its lag-k base is 0, noise and coarse dynamics only lower it), a sensor on a continuous
+    // process with white noise does, 1/4 − (11/12)η; η by GLS of (d_k − 1/4, d_2k) = (−11/12, 1/6)·η
+    const double a1 = -11.0 / 12.0, a2 = 1.0 / 6.0, d1 = rho_k - rho_3k - 0.25, d2 = rho_2k - rho_3k;
+    const double info = (2 * a1 * a1 - 2 * a1 * a2 + 2 * a2 * a2) / 3.0;  // per row
+    const double eta_c = std::clamp((2 * a1 * d1 - a1 * d2 - a2 * d1 + 2 * a2 * d2) / 3.0 / info, 0.0, 1.0);
+    r.continuous = true;
+    r.noisy = eta_c > std::max(0.05, 3.0 / std::sqrt(info * std::max(rows, 1.0)));
+    r.noise_share = eta_c;
+  }
   if (!r.continuous) {
     // scheme-consistent: GLS of (d_k, d_2k) = (−2/3, 1/6)·η, covariance [[2, 1], [1, 2]]/rows
     // (inverse ∝ [[2, −1], [−1, 2]]); information aᵀΣ⁻¹a = (7/18)·rows
@@ -61,6 +77,13 @@ std::string Options::invalid_reason() const {
     if (!effect_spec(e.id).term_like && !dynamic_fit_supported(e.id))
       return "effect '" + e.name() +
              "' is a dynamic effect whose identification is not supported yet";
+  for (const auto& u : user_effects) {
+    if (auto why = u.invalid_reason(); !why.empty()) return why;
+    for (const auto& e : effects)
+      if (e.name() == u.name) return "effect '" + u.name + "' is listed twice";
+    for (const auto& v : user_effects)
+      if (&v != &u && v.name == u.name) return "user effect '" + u.name + "' is listed twice";
+  }
   if (known_force && !effects.empty())
     for (const auto& e : effects)
       if (!effect_spec(e.id).term_like) return "known_force cannot be combined with dynamic effects";
@@ -91,7 +114,34 @@ std::vector<Effect> effect_parameters(const Model& model, const std::vector<Effe
   return out;
 }
 
+EffectTerms kept_terms(const Options& options) {
+  EffectTerms kept;
+  for (const Term& t : options.keep_drift) kept.drift.push_back({t, 1.0});
+  for (const Term& t : options.keep_diffusion) kept.diffusion.push_back({t, 1.0});
+  std::vector<EffectTerms> parts;
+  for (const Effect& e : options.effects) parts.push_back(unit_effect_terms(e.id));
+  for (const UserEffect& u : options.user_effects) parts.push_back(u.unit_terms());
+  for (const EffectTerms& p : parts) {
+    kept.drift.insert(kept.drift.end(), p.drift.begin(), p.drift.end());
+    kept.diffusion.insert(kept.diffusion.end(), p.diffusion.begin(), p.diffusion.end());
+  }
+  return kept;
+}
+
 namespace {
+
+/// The user effects' terms added to the dictionaries and kept through selection.
+Options with_user_terms(const Options& options) {
+  Options o = options;
+  for (const UserEffect& u : options.user_effects)
+    for (const UserEffectParam& p : u.params) {
+      std::vector<Term>& library = p.diffusion ? o.diffusion_library : o.drift_library;
+      if (std::find(library.begin(), library.end(), p.term) == library.end()) library.push_back(p.term);
+      (p.diffusion ? o.keep_diffusion : o.keep_drift).push_back(p.term);
+    }
+  o.user_effects.clear();
+  return o;
+}
 
 // White sensor noise adds its variance to x's: an estimate above var(x) is not a noise level but
 // a sign of data the model of the sampling does not describe (glitches, a wrong column).
@@ -115,8 +165,9 @@ Result dispatch(const Dataset& data, const Options& options) {
 
 }  // namespace
 
-Result identify(const Dataset& data, const Options& options) {
-  if (auto why = options.invalid_reason(); !why.empty()) throw Error("identify: " + why);
+Result identify(const Dataset& data, const Options& requested) {
+  if (auto why = requested.invalid_reason(); !why.empty()) throw Error("identify: " + why);
+  const Options options = with_user_terms(requested);
   if (options.known_force)
     require(options.known_force->size() == data.x.size(), "identify: known_force must have one value per sample");
   const Scales s = natural_scales(data);
@@ -131,6 +182,7 @@ Result identify(const Dataset& data, const Options& options) {
   check_sensor_noise(r, data);
   detail::require_finite_standard_errors(r.model);
   standard_errors_from_covariance(r.model, "identify");
+  for (const UserEffect& u : requested.user_effects) r.report.user_effect_params.push_back(user_effect_fit(r.model, u));
   return r;
 }
 

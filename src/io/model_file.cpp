@@ -294,6 +294,48 @@ nlohmann::ordered_json effect_to_json(const Effect& e) {
   return j;
 }
 
+bool is_user_effect_json(const nlohmann::json& j) {
+  return j.is_object() && (j.contains("drift") || j.contains("diffusion"));
+}
+
+UserEffect user_effect_from_json(const nlohmann::json& j, const std::string& where) {
+  if (!j.is_object()) throw Error(where + " must be a user effect {\"name\": ..., \"drift\": {\"param\": \"term\"}}");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (it.key() != "name" && it.key() != "drift" && it.key() != "diffusion")
+      throw Error(where + ": unknown key '" + it.key() + "' of a user effect (expected name, drift, diffusion)");
+  if (!j.contains("name") || !j["name"].is_string()) throw Error(where + ": a user effect needs a string 'name'");
+  UserEffect e;
+  e.name = j["name"].get<std::string>();
+  for (const bool diffusion : {false, true}) {
+    const char* key = diffusion ? "diffusion" : "drift";
+    if (!j.contains(key)) continue;
+    const std::string at = where + "." + key;
+    if (!j[key].is_object()) throw Error(at + " must be an object {\"param\": \"term\", ...}");
+    for (auto it = j[key].begin(); it != j[key].end(); ++it) {
+      if (!it.value().is_string()) throw Error(at + "." + it.key() + " must be a term (a string)");
+      try {
+        e.params.push_back({it.key(), Term::parse(it.value().get<std::string>()), diffusion});
+      } catch (const Error& err) {
+        throw Error(at + "." + it.key() + ": " + err.what());
+      }
+    }
+  }
+  if (auto why = e.invalid_reason(); !why.empty()) throw Error(where + ": " + why);
+  return e;
+}
+
+nlohmann::ordered_json user_effect_to_json(const UserEffect& e) {
+  OJ j;
+  j["name"] = e.name;
+  for (const bool diffusion : {false, true}) {
+    OJ terms = OJ::object();
+    for (const auto& p : e.params)
+      if (p.diffusion == diffusion) terms[p.name] = p.term.name();
+    if (!terms.empty()) j[diffusion ? "diffusion" : "drift"] = terms;
+  }
+  return j;
+}
+
 namespace {
 
 // ---- "covariance": {"parameters": [names], "matrix": [[row], ...]}

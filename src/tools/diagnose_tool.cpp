@@ -76,6 +76,12 @@ const ConfigSchema& diagnose_schema() {
           {"min_units", "integer",
            "With fewer records than this, every record is cut into time blocks treated as independent units.", "32"},
           {"holdout", "number", "Fraction at the end of every record held out to score the suspects.", "0.3"},
+          {"user_effects", "[{name, drift, diffusion}]",
+           "Your own effects, tested as suspects beside the catalogue's (score test, held-out refit, confirmation) "
+           "and recommended by name: each {\"name\": ..., \"drift\": {\"param\": \"term\", ...}, \"diffusion\": "
+           "{...}}, every parameter the coefficient of its term (an expression in x, y, u), as in identify-vehs's "
+           "effects (docs/model-file.md#user-effects).",
+           "[]"},
           {"suspects", "bool | object",
            "Rank missing effects: true/false, or {\"z_threshold\": 3, \"min_blocks\": 20, \"effects\": [names], "
            "\"confirm\": true} (significance of the held-out gain, held-out blocks for its standard error, effects "
@@ -191,6 +197,16 @@ diagnose::Options diagnose_options(const Config& c) {
           o.suspects.only.push_back(enum_from_string(kEffectNames, name, s.where("effects")));
     } else {
       c.fail("suspects", "must be true, false or an object");
+    }
+  }
+  if (c.has("user_effects")) {
+    const auto& list = c.raw("user_effects");
+    if (!list.is_array()) c.fail("user_effects", "must be a list of {\"name\": ..., \"drift\": {...}}");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string where = c.where("user_effects") + "[" + std::to_string(i) + "]";
+      o.user_effects.push_back(user_effect_from_json(list[i], where));
+      if (find_user_effect(o.user_effects, o.user_effects.back().name) != &o.user_effects.back())
+        throw Error(where + ": '" + o.user_effects.back().name + "' is listed twice");
     }
   }
   o.suspect_samples = c.non_negative_or("suspect_samples", 4e6);

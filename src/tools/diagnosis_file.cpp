@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vehs/io/model_file.hpp"
+
 namespace vehs::tools {
 
 namespace {
@@ -16,7 +18,8 @@ std::string verdict_text(SamplingVerdict v) {
 
 std::string estimator_text(Estimator e) { return e == Estimator::Auto ? "" : enum_to_string(kEstimatorNames, e); }
 
-nlohmann::ordered_json suspect_add_fragment(const diagnose::Suspect& s) {
+nlohmann::ordered_json suspect_add_fragment(const diagnose::Suspect& s, const std::vector<UserEffect>& user) {
+  if (const UserEffect* u = find_user_effect(user, s.effect)) return {{"effects", J::array({user_effect_to_json(*u)})}};
   return {{"effects", J::array({{{"name", s.effect}}})}};
 }
 
@@ -87,7 +90,8 @@ nlohmann::ordered_json refit_config(const diagnose::Result& r, const Model& mode
   for (const auto& tc : model.diffusion) diffusion.push_back(tc.term.name());
   for (const auto& e : model.effects) effects.push_back(e.name());
   for (const auto& name : r.recommended)
-    if (std::find(effects.begin(), effects.end(), J(name)) == effects.end()) effects.push_back(name);
+    if (const UserEffect* u = find_user_effect(r.user_effects, name)) effects.push_back(user_effect_to_json(*u));
+    else if (std::find(effects.begin(), effects.end(), J(name)) == effects.end()) effects.push_back(name);
   cfg["drift_library"] = drift;
   cfg["diffusion_library"] = diffusion;
   cfg["effects"] = effects;
@@ -124,7 +128,7 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r, const Model*
     e["effect"] = s.effect;
     e["evidence"] = num(s.evidence);
     e["params"] = s.params;
-    e["add"] = suspect_add_fragment(s);
+    e["add"] = suspect_add_fragment(s, r.user_effects);
     if (!s.outside_domain.empty()) e["outside_domain"] = s.outside_domain;
     e["z"] = num(s.z);
     e["significant"] = s.significant;
@@ -148,7 +152,8 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& r, const Model*
     e["test"] = s.test;
     e["params"] = s.params;
     e["params_stderr"] = s.params_stderr;
-    e["add"] = J::parse(s.add);
+    if (const UserEffect* u = find_user_effect(r.user_effects, s.effect)) e["add"] = {{"effects", J::array({user_effect_to_json(*u)})}};
+    else e["add"] = J::parse(s.add);
     e["null_claim_rate"] = num(s.null_claim_rate);
     e["power"] = num(s.power);
     if (!s.detectable.empty()) e["detectable"] = s.detectable;

@@ -18,8 +18,9 @@ nlohmann::ordered_json diagnosis_to_json(const diagnose::Result& result, const M
 /// when so confirmed). Null when nothing was confirmed.
 nlohmann::ordered_json refit_config(const diagnose::Result& result, const Model& model);
 
-/// The fragment to merge into an identify-vehs config to fit a suspect: {"effects": [{"name": ...}]}.
-nlohmann::ordered_json suspect_add_fragment(const diagnose::Suspect& suspect);
+/// The fragment to merge into an identify-vehs config to fit a suspect: {"effects": [{"name": ...}]}
+/// (a user's effect: its definition).
+nlohmann::ordered_json suspect_add_fragment(const diagnose::Suspect& suspect, const std::vector<UserEffect>& user);
 
 /// How the outputs spell a sampling verdict and an estimator; empty when not known.
 std::string verdict_text(SamplingVerdict verdict);

@@ -237,7 +237,7 @@ std::string next_step(const diagnose::Result& r, const Model* model) {
   }
   for (const auto& sp : r.suspects.ranked)
     if (sp.significant)
-      return "Next step: add " + sp.effect + " to the identify-vehs config (merge " + suspect_add_fragment(sp).dump() +
+      return "Next step: add " + sp.effect + " to the identify-vehs config (merge " + suspect_add_fragment(sp, r.user_effects).dump() +
              ") and identify again.";
   return "Next step: no effect of the catalogue explains the misfit; the one-step map below shows where in (x, v) "
          "the model fails.";
@@ -541,7 +541,7 @@ void add_diagnosis_to_report(Report& report, const diagnose::Result& r, const st
                           params_text(sp->params, sp->params_stderr)});
         if (sp->significant && !aside) {
           t.highlight.push_back(t.rows.size() - 1);
-          h.paragraphs.push_back("To fit " + sp->effect + ", merge into the identify-vehs config: " + suspect_add_fragment(*sp).dump());
+          h.paragraphs.push_back("To fit " + sp->effect + ", merge into the identify-vehs config: " + suspect_add_fragment(*sp, r.user_effects).dump());
         }
         bars.add_row(label_text(sp->effect), {std::isfinite(sp->z) ? sp->z : 0.0, sp->evidence});
       }

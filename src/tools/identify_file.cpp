@@ -214,6 +214,10 @@ nlohmann::ordered_json identify_report_sections(const identify::Result& result) 
     params.push_back(effect_with_stderr(e));
     term_like = term_like || effect_spec(e.id).term_like;
   }
+  for (const auto& u : rep.user_effect_params) {  // a user's effects: term-like
+    params.push_back({{"name", u.name}, {"params", u.params}, {"stderr", u.stderr_}, {"user", true}});
+    term_like = true;
+  }
   if (term_like) j["effect_params"] = params;
   if (rep.profile) j["dynamic_fit"] = profile_json(*rep.profile);
   if (rep.colored) j["dynamic_fit"] = colored_json(*rep.colored);

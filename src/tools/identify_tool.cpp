@@ -59,7 +59,10 @@ const char* const kEffectsHelp =
     "2 strides, drift refitted on Kalman prediction errors (GLS; unbiased damping), white a22 "
     "from the residual variance minus the OU part; uses the uli estimator; cannot yet be combined "
     "with the other dynamic effects. Details of the fit are written under "
-    "\"dynamic_fit\".";
+    "\"dynamic_fit\". A user's own effect is {\"name\": ..., \"drift\": {\"param\": \"term\", ...}, "
+    "\"diffusion\": {...}}: each parameter the coefficient of its term (an expression in x, y, u), "
+    "the terms kept through every selection, the parameters under \"effect_params\" with \"user\": true "
+    "(docs/model-file.md#user-effects).";
 
 std::vector<Term> parse_term_list(const Config& c, const std::string& key) {
   std::vector<Term> out;
@@ -222,7 +225,7 @@ const ConfigSchema& identify_schema() {
            "Diffusion dictionary: the paper's Eq. 17 [1, x, ..., x^M], or a list of term names. "
            "Data with an input column and no drift_library: [\"1\"] by default.",
            "{\"M\": 4}; [\"1\"] with an input column"},
-          {"effects", "[names | {name, params}]", kEffectsHelp, "[]"},
+          {"effects", "[names | {name, params} | {name, drift, diffusion}]", kEffectsHelp, "[]"},
           {"keep_terms", "{\"drift\": [...], \"diffusion\": [...]}",
            "Terms the sparse regression must never remove.", "{}"},
           {"estimator", "string",
@@ -305,6 +308,10 @@ identify::Options identify_options(const Config& c) {
     if (!ef.is_array()) c.fail("effects", "must be a list of effect names or {name, params}");
     for (std::size_t i = 0; i < ef.size(); ++i) {
       const std::string where = c.where("effects") + "[" + std::to_string(i) + "]";
+      if (is_user_effect_json(ef[i])) {
+        o.user_effects.push_back(user_effect_from_json(ef[i], where));
+        continue;
+      }
       const Effect e = effect_from_json(ef[i], where, false);
       if (e.id == EffectId::HarmonicForcing && e.params.count("amplitude") && !e.params.count("phase"))
         throw Error(where + ".params.amplitude: harmonic_forcing's amplitude can only be held fixed together with phase");

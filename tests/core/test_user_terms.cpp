@@ -112,3 +112,15 @@ TEST_CASE("user terms evaluate from several threads at once", "[terms][user]") {
   for (auto& th : threads) th.join();
   for (double e : error) CHECK(e == 0.0);
 }
+
+TEST_CASE("a user term returns from internal units exactly at every power of ten", "[core][user]") {
+  // the factors compound to 1 + 2.2e-16 at 1e-9 · 1e9 in floating point: the round trip must give
+  // the parsed function back, equal to it (a requested term is found again by equality)
+  const vehs::Term t = vehs::Term::parse("-x^3");
+  for (int e = -12; e <= 12; ++e) {
+    const double s = std::pow(10.0, e);
+    const vehs::Term back = vehs::rescaled(vehs::rescaled(t, s, s, s, 1.0 / s), 1.0 / s, 1.0 / s, 1.0 / s, s);
+    CAPTURE(e);
+    CHECK(back == t);
+  }
+}

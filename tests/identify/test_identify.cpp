@@ -366,3 +366,22 @@ TEST_CASE("white sensor noise too small for the sampling rule: the ULI residuals
   INFO("2D " << q << " ± " << se);
   CHECK(std::abs(q - 223.0 * 223.0) / se < z_limit(4));
 }
+
+TEST_CASE("the sampling rule reads lag k far above 0 as a sensor on a continuous process, whatever its noise",
+          "[identify][sampling]") {
+  // the lags of a rig at 40 samples per period with 1 % sensor noise on 20 000 samples: the noise
+  // share 6 (ρ_2k − ρ_3k) = 0.14 is not resolved (3 SE = 0.18) and the midpoint rule at η = 0
+  // said "scheme-consistent"; but ρ_k − ρ_3k = 0.078 is 7.8 SE above any explicit scheme's
+  const identify::SamplingRule r = identify::sampling_rule(0.039, -0.0159, -0.0393, 20000);
+  CHECK(r.verdict == SamplingVerdict::Noisy);
+  CHECK(r.continuous);
+  CHECK(r.noise_share == Approx(0.19).margin(0.02));  // (1/4 − 0.078)·12/11 from lag k, lag 2k agrees
+  // the same lags on few rows (SE 0.02): not refuted, the midpoint rule stands
+  CHECK(identify::sampling_rule(0.039, -0.0159, -0.0393, 2000).verdict == SamplingVerdict::SchemeConsistent);
+  // an explicit scheme (lag k about 0) and a clean continuous process keep their verdicts
+  CHECK(identify::sampling_rule(0.002, -0.001, 0.001, 2.5e5).verdict == SamplingVerdict::SchemeConsistent);
+  CHECK(identify::sampling_rule(0.25, 0.0, 0.0, 2.5e5).verdict == SamplingVerdict::ContinuousTime);
+  // a continuous process with little noise: continuous, not noisy
+  const identify::SamplingRule small = identify::sampling_rule(0.25 - 11.0 / 12.0 * 0.02, 0.02 / 6.0, 0.0, 20000);
+  CHECK(small.verdict == SamplingVerdict::ContinuousTime);
+}

@@ -233,7 +233,43 @@ TEST_CASE("diagnose-vehs rejects bad inputs with exit status 1 and writes nothin
   fs::create_directories(dir / "report");
   write_text((dir / "report" / "history.json").string(), "not json");
   CHECK(run({cfg("e.json", R"("model": ")" + (dir / "model.json").string() + "\", \"suspects\": false, " + base), "--quiet"}) == 1);
+  // a user effect that is not one, or listed twice
+  fs::remove_all(dir / "report");
+  for (const std::string& users : {std::string(R"([{"name": "f"}])"), std::string(R"([{"name": "f", "drift": {"a": "x^^2"}}])"),
+                                   std::string(R"([{"name": "f", "drift": {"a": "x^2"}}, {"name": "f", "drift": {"b": "x^4"}}])")})
+    CHECK(run({cfg("f.json", R"("model": ")" + (dir / "model.json").string() + "\", \"user_effects\": " + users + ", " + base),
+               "--quiet"}) == 1);
   CHECK_FALSE(fs::exists(dir / "out.json"));
+}
+
+TEST_CASE("diagnose-vehs's refit config and suspects' fragments hold a user effect's definition", "[diagnose][app][user]") {
+  vehs::diagnose::Result r;
+  r.verdict = vehs::diagnose::Verdict::Inadequate;
+  r.confirmation.ran = true;
+  r.recommended = {"directional_friction"};
+  vehs::UserEffect u;
+  u.name = "directional_friction";
+  u.params = {{"Fp", vehs::Term::parse("-(y>0)"), false}, {"Fm", vehs::Term::parse("(y<0)"), false}};
+  r.user_effects = {u};
+  const nlohmann::ordered_json definition = {{"name", "directional_friction"}, {"drift", {{"Fm", "(y<0)"}, {"Fp", "-(y>0)"}}}};
+  const auto cfg = vehs::tools::refit_config(r, bistable());
+  INFO(cfg.dump());
+  REQUIRE(cfg["effects"].size() == 1);
+  auto same = [&](const nlohmann::ordered_json& j) {  // (the order of the parameters aside)
+    return nlohmann::json::parse(j.dump()) == nlohmann::json::parse(definition.dump());
+  };
+  CHECK(same(cfg["effects"][0]));
+  vehs::diagnose::Suspect sp;
+  sp.effect = "directional_friction";
+  CHECK(same(vehs::tools::suspect_add_fragment(sp, r.user_effects)["effects"][0]));
+  sp.effect = "coulomb_friction";
+  CHECK(vehs::tools::suspect_add_fragment(sp, r.user_effects)["effects"][0]["name"] == "coulomb_friction");
+  // the definition read back is the effect
+  const vehs::UserEffect back = vehs::user_effect_from_json(nlohmann::json::parse(cfg["effects"][0].dump()), "refit");
+  CHECK(back.name == u.name);
+  REQUIRE(back.params.size() == 2);
+  const std::vector<vehs::UserEffect> read{back};
+  CHECK(vehs::find_user_effect(read, "directional_friction") == &read[0]);
 }
 
 TEST_CASE("diagnose-vehs's next step lists every recommended effect in its identify fragment", "[diagnose][app]") {

@@ -140,3 +140,48 @@ TEST_CASE("the identify-vehs executable runs (--help lists every key)", "[identi
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   for (const auto& k : tools::identify_schema().keys) CHECK(text.find(k.name) != std::string::npos);
 }
+
+TEST_CASE("identify-vehs: a user's own effect in the config - its parameters, or one line naming the key",
+          "[identify][app][user]") {
+  const fs::path dir = work_dir();
+  const Dataset d = vehs_test::simulate(vehs_test::paper_truth(), 0.001, 1, 4, 50000, 7);
+  const fs::path data = dir / "user_effect.csv", out = dir / "user_effect_model.json", cfg = dir / "user_effect.json";
+  write_measurements(data.string(), d, WriteColumns{false, false, 17});
+  auto config = [&](const std::string& effect) {
+    write_text(cfg, "{\"data\": [\"" + data.string() + "\"], \"output\": \"" + out.string() +
+                        "\", \"drift_library\": [\"x\", \"x^5\", \"x^7\", \"x^9\", \"y\"], \"diffusion_library\": [\"1\", \"x^2\"], "
+                        "\"sparsity\": \"none\", "
+                        "\"effects\": [" + effect + "]}");
+  };
+  // the paper's cubic stiffness written as the user's own effect (the other terms of the paper's
+  // polynomial in the library): k3 = −coef of x^3
+  config(R"J({"name": "cubic_spring", "drift": {"k3": "-x^3"}})J");
+  fs::remove(out);
+  std::string err;
+  REQUIRE(run({cfg.string(), "--quiet"}, &err) == 0);
+  const ModelFile file = read_model_file(out.string());
+  const auto& params = file.sections["effect_params"];
+  REQUIRE(params.size() == 1);
+  CHECK(params[0]["name"] == "cubic_spring");
+  CHECK(params[0]["user"] == true);
+  const double k3 = params[0]["params"]["k3"].get<double>(), se = params[0]["stderr"]["k3"].get<double>();
+  const double truth = -vehs_test::paper_truth().drift_coef("x^3");
+  INFO("k3 " << k3 << " +- " << se << ", truth " << truth);
+  CHECK(std::abs(k3 - truth) < 4.5 * se);  // false failure 6.8e-6 for a consistent fit
+  CHECK(file.model.drift_coef("-x^3") == Approx(k3));
+
+  for (const auto& [effect, expected] : std::vector<std::pair<std::string, std::string>>{
+           {R"J({"name": "f", "drift": {"a": "x^^2"}})J", "[0].drift.a: unknown term 'x^^2'"},
+           {R"J({"name": "f", "drift": {"a": 3}})J", "[0].drift.a must be a term"},
+           {R"J({"name": "f", "drift": {"a": "x^2"}, "extra": 1})J", "unknown key 'extra'"},
+           {R"J({"name": "coulomb_friction", "drift": {"a": "x^2"}})J", "is a catalogue effect"},
+           {R"J({"name": "f", "drift": {"a": "x^2", "b": "x^2"}})J", "belongs to two parameters"},
+           {R"J({"name": "f", "diffusion": {"a": "sign(y)"}})J", "not allowed in the diffusion"}}) {
+    config(effect);
+    CHECK(run({cfg.string(), "--quiet"}, &err) == 1);
+    INFO(effect << " -> " << err);
+    CHECK(err.find(expected) != std::string::npos);
+    CHECK(err.find("user_effect.json") != std::string::npos);
+    CHECK(std::count(err.begin(), err.end(), '\n') == 1);
+  }
+}

@@ -57,8 +57,8 @@ struct Term {
 };
 
 /// The term of internal units (vehs/core/scaling.hpp) for a User term: its function of
-/// (kx·x, ky·y, ku·u); any other term unchanged.
-Term rescaled(const Term& t, double kx, double ky, double ku);
+/// (kx·x, ky·y, ku·u) times kvalue; any other term unchanged.
+Term rescaled(const Term& t, double kx, double ky, double ku, double kvalue = 1.0);
 
 /// Canonical order: monomials by (py, px), then sign(y), y*|y|, u, user terms by text.
 bool operator<(const Term& a, const Term& b);

@@ -3,7 +3,8 @@
 // "y*(y>0)", "u*x", "(x>0.8)*(x-0.8)". Parsed once by muParser (a comparison is 1 or 0, the usual
 // functions sin, cos, tanh, exp, log, sqrt, abs, sign, min, max, the operators + - * / ^ and
 // ?:); evaluated at the physical state. A model fitted in internal units (vehs/core/scaling.hpp)
-// holds the same function of the internal state, g(kx·x̃, ky·ỹ, ku·ũ), made by rescaled().
+// holds the same function of the internal state over its typical size, g(kx·x̃, ky·ỹ, ku·ũ)/c,
+// made by rescaled().
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -25,8 +26,11 @@ class UserFunction {
   bool uses_u() const { return uses_[2]; }
   /// Factors (kx, ky, ku) applied to the arguments before evaluation (1, 1, 1 as parsed).
   const std::array<double, 3>& scales() const { return scales_; }
-  /// The same expression evaluated at (kx·x, ky·y, ku·u), the factors compounding.
-  std::shared_ptr<const UserFunction> rescaled(double kx, double ky, double ku) const;
+  /// Factor applied to the value (1 as parsed).
+  double value_factor() const { return value_; }
+  /// The same expression evaluated at (kx·x, ky·y, ku·u) and multiplied by kvalue, the factors
+  /// compounding.
+  std::shared_ptr<const UserFunction> rescaled(double kx, double ky, double ku, double kvalue = 1.0) const;
 
   /// g(x, y, u); safe to call from several threads at once.
   double operator()(double x, double y, double u = 0.0) const;
@@ -40,9 +44,11 @@ class UserFunction {
 
    private:
     friend class UserFunction;
-    Local(void* instance, const std::array<double, 3>& scales) : instance_(instance), scales_(scales) {}
+    Local(void* instance, const std::array<double, 3>& scales, double value)
+        : instance_(instance), scales_(scales), value_(value) {}
     void* instance_;
     std::array<double, 3> scales_;
+    double value_;
   };
   Local local() const;
 
@@ -51,6 +57,7 @@ class UserFunction {
   std::string text_;
   std::array<bool, 3> uses_{};
   std::array<double, 3> scales_{1.0, 1.0, 1.0};
+  double value_ = 1.0;
   std::uint64_t id_ = 0;  ///< the per-thread parser cache's key
 };
 

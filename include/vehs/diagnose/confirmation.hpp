@@ -70,12 +70,14 @@
 #include <cstddef>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "vehs/core/dataset.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/core/user_effect.hpp"
 #include "vehs/diagnose/lens.hpp"
 #include "vehs/diagnose/suspects.hpp"
 
@@ -99,7 +101,8 @@ struct ConfirmationOptions {
 /// One candidate effect: its refit and the held-out comparison with the refitted baseline.
 struct Confirmation {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  std::string effect;           ///< catalogue name
+  std::string effect;           ///< catalogue name, or a user effect's
+  bool user_effect = false;     ///< a user's own effect (every parameter measures its size)
   bool per_record_phase = false;  ///< harmonic_forcing refitted with one phase per record
   std::string evidence;         ///< why it was a candidate ("score test z = 3527.2", ...)
   bool confirmed = false;
@@ -154,10 +157,13 @@ struct ConfirmationReport {
 
 /// A candidate: the effect and why it is one.
 struct Candidate {
-  EffectId id;
+  EffectId id;                    ///< a catalogue effect (unless `user`)
   std::string evidence;
   bool per_record_phase = false;  ///< harmonic_forcing with one phase per record
   double all_data_z = std::numeric_limits<double>::quiet_NaN();  ///< score test z (NaN: held-out evidence only)
+  std::optional<UserEffect> user = std::nullopt;  ///< a user's own effect instead of `id`
+
+  std::string name() const { return user ? user->name : enum_to_string(kEffectNames, id); }
 };
 
 /// The held-out z that all-data evidence of z-equivalent `all_data_z` predicts for a refit judged

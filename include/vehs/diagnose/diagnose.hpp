@@ -70,6 +70,7 @@
 #include "vehs/core/fit_info.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/core/progress.hpp"
+#include "vehs/core/user_effect.hpp"
 #include "vehs/diagnose/confirmation.hpp"
 #include "vehs/diagnose/hypothesis.hpp"
 #include "vehs/diagnose/lens.hpp"
@@ -123,6 +124,9 @@ struct Options {
   bool fpk = true;                     ///< stationary FPK density of the model as a reference
   int fpk_cells = 160;                 ///< per axis
   // ---- suspects
+  /// A user's own effects (vehs/core/user_effect.hpp), tested as suspects beside the catalogue's:
+  /// the same score test, held-out refit, confirmation and recommendation by name.
+  std::vector<UserEffect> user_effects;
   SuspectOptions suspects;
   /// The suspects use whole records, in order, up to this many samples (their refits of dynamic
   /// effects are the slowest part of a run; 0: all data).
@@ -234,6 +238,9 @@ struct Result {
   /// largest held-out gain first); without
   /// it, every significant suspect (score tests, then held-out). Empty for an adequate model.
   std::vector<std::string> recommended;
+  /// The user's effects that were suspects (Options::user_effects): what a recommended user
+  /// effect's name stands for.
+  std::vector<UserEffect> user_effects;
   /// Inadequate at a significance far beyond the threshold (smallest component p below
   /// 1e-6 × threshold), the suspects were refitted, and none was confirmed.
   bool outside_catalogue = false;

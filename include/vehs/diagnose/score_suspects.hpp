@@ -56,6 +56,7 @@
 
 #include "vehs/core/dataset.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/core/user_effect.hpp"
 
 namespace vehs::diagnose {
 
@@ -66,6 +67,9 @@ struct ScoreSuspectOptions {
   double forcing_band = 6.0;    ///< harmonic forcing scanned up to this multiple of ω̄
   double max_samples = 2.5e5;   ///< whole records, in order, up to this many samples, at least 2 (0: all)
   int threads = 0;              ///< 0: the OpenMP default
+  /// A user's own effects, tested as the term-like ones are (their coefficients at 0: χ² with
+  /// one degree of freedom per parameter; `add` is empty: the tools write their definition).
+  std::vector<UserEffect> user_effects = {};
   std::function<void()> tested = {};  ///< called after each test (an effect, the term effects together, the forcing scans)
   std::string invalid_reason() const;
 };

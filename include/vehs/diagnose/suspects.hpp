@@ -61,6 +61,7 @@
 #include "vehs/core/dataset.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/core/progress.hpp"
+#include "vehs/core/user_effect.hpp"
 #include "vehs/diagnose/lens.hpp"
 #include "vehs/diagnose/verdict.hpp"
 #include "vehs/identify/identify.hpp"
@@ -91,6 +92,9 @@ struct SuspectOptions {
   int min_blocks = 20;       ///< held-out blocks for the standard error
   bool confirm = true;       ///< confirm colored_noise against deterministic slow forces by refits (diagnose)
   std::vector<EffectId> only;  ///< empty: every effect of the table
+  /// A user's own effects, tested as term-like suspects after the table's (drift terms: the drift
+  /// contrast; diffusion terms only: the diffusion likelihood).
+  std::vector<UserEffect> user_effects;
   ProgressCallback progress;   ///< task "suspects"; empty: none
   std::string invalid_reason() const;
 };
@@ -138,6 +142,8 @@ std::string refit_text(const Suspect& suspect);
 
 /// The method of a catalogue effect in the suspect table (NotYet when it has none).
 SuspectMethod suspect_method(EffectId id);
+/// The method of a suspect by name: a catalogue effect's, else (a user effect) DriftTerms.
+SuspectMethod suspect_method(const std::string& effect);
 
 /// identify's options for refitting `model` (its own terms, its dynamic effects with all params
 /// free, sparsity off) as seen through `lens`: the baseline of the suspects; add an effect to

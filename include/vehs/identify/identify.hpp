@@ -96,6 +96,7 @@
 #include "vehs/core/fit_info.hpp"
 #include "vehs/core/model.hpp"
 #include "vehs/core/progress.hpp"
+#include "vehs/core/user_effect.hpp"
 #include "vehs/identify/regression.hpp"
 #include "vehs/identify/report.hpp"
 
@@ -114,6 +115,9 @@ struct Options {
   /// GLS on Kalman prediction errors (dynamic.hpp); it cannot yet be combined with the other
   /// dynamic effects or with sensor noise (one-line error).
   std::vector<Effect> effects;
+  /// A user's own effects (vehs/core/user_effect.hpp): their terms join the dictionaries and are
+  /// kept through selection; Report::user_effect_params gives their parameters.
+  std::vector<UserEffect> user_effects;
   /// Known force per sample (aligned with Dataset::x), subtracted from the acceleration
   /// target; used by the dynamic-effect fit (not with dynamic effects in `effects`).
   const std::vector<double>* known_force = nullptr;
@@ -159,6 +163,12 @@ struct Options {
 /// noise. With lag 2k alone a 3-sigma excess at lag 2k (d_2k = 0.0097 on 2·10⁵ rows, ρ_k ≈ 0)
 /// read as 5.9 % sensor noise and the true model's diagnosis failed every residual component
 /// (bench/results/diagnose_calibration_log.md, calibration matrix: 200 × 1000, seed 5).
+/// Where the midpoint rule reads "not continuous" but ρ_k − ρ_3k lies more than 5 standard errors
+/// (√(2/rows)) above 0, no explicit scheme explains it (noise and coarse dynamics only lower lag
+/// k): the data are a sensor on a continuous process whose noise the lag-2k reading alone did not
+/// resolve, and η is read from both differences under that hypothesis, d_k ≈ 1/4 − (11/12)η and
+/// d_2k ≈ η/6 (a rig in metres at 40 samples per period with 1 % sensor noise, 20 000 samples:
+/// ρ_k 0.039, η ≈ 0.19 read as forward before, the stiffness 4 SE and the friction 9–10 SE off).
 struct SamplingRule {
   double noise_share = 0.0;
   bool noisy = false, continuous = false;
@@ -181,5 +191,9 @@ Result identify(const Dataset& data, const Options& options);
 /// Physical parameters of term-like effects from fitted coefficients (e.g. mu = −coef of
 /// sign(y)), with standard errors (one Effect per entry of `effects`).
 std::vector<Effect> effect_parameters(const Model& model, const std::vector<Effect>& effects);
+
+/// The terms no selection may remove: Options::keep_drift / keep_diffusion and the terms of the
+/// requested term-like effects and user effects (for the likelihood's selection as for identify's).
+EffectTerms kept_terms(const Options& options);
 
 }  // namespace vehs::identify

@@ -14,6 +14,7 @@
 
 #include "vehs/core/fit_info.hpp"
 #include "vehs/core/model.hpp"
+#include "vehs/core/user_effect.hpp"
 #include "vehs/identify/regression.hpp"
 
 namespace vehs::identify {
@@ -129,6 +130,8 @@ struct Report {
   /// Physical parameters of the requested effects with standard errors: term-like ones from
   /// their coefficients (e.g. mu = −coef of sign(y)), then the dynamic ones.
   std::vector<Effect> effect_params;
+  /// The user effects' parameters (Options::user_effects) with standard errors.
+  std::vector<UserEffectFit> user_effect_params;
   std::optional<ProfileFitReport> profile;  ///< set when dynamic forces were fitted
   std::optional<ColoredFitReport> colored;  ///< set when colored_noise was fitted
 };

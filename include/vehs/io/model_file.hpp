@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vehs/core/model.hpp"
+#include "vehs/core/user_effect.hpp"
 
 namespace vehs {
 
@@ -46,5 +47,12 @@ void write_model_file(const std::string& path, const Model& m,
 /// `require_params` false allows params to be missing (identify fits them).
 Effect effect_from_json(const nlohmann::json& j, const std::string& where, bool require_params);
 nlohmann::ordered_json effect_to_json(const Effect& e);
+
+/// Whether an effects entry is a user effect: an object with "drift" or "diffusion".
+bool is_user_effect_json(const nlohmann::json& j);
+/// Parses a user effect {"name": ..., "drift": {"param": "term", ...}, "diffusion": {...}}
+/// (vehs/core/user_effect.hpp); errors name `where` and the key.
+UserEffect user_effect_from_json(const nlohmann::json& j, const std::string& where);
+nlohmann::ordered_json user_effect_to_json(const UserEffect& e);
 
 }  // namespace vehs
