@@ -105,7 +105,8 @@ Result diagnose(const Model& model, const Dataset& data, const Options& given) {
   detail::Stopwatch watch;
   Options opt = given;  // the user's effects are suspects of both kinds
   for (auto* list : {&opt.suspects.user_effects, &opt.score_suspects.user_effects})
-    list->insert(list->end(), given.user_effects.begin(), given.user_effects.end());
+    for (const UserEffect& u : given.user_effects)
+      if (!find_user_effect(*list, u.name)) list->push_back(u);
   Result res = detail::compare_with_twins(model, data, opt, watch);
   res.user_effects = given.user_effects;
   std::optional<Dataset> suspect_subset;
