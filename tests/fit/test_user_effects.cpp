@@ -136,3 +136,19 @@ TEST_CASE("fit - an expression small in physical units fits as the grammar's ter
   CHECK(std::abs(expression + grammar) < 0.05 * grammar_se);
   CHECK(expression_se == Approx(grammar_se).epsilon(1e-4));
 }
+
+TEST_CASE("fit - an expression that is not finite on the data names the term and the line", "[fit][user]") {
+  vehs::Dataset data = directional::directional_friction(1000, 3, 5e-3, 1e-7);
+  data.records[0].first_line = 2;
+  vehs::FitOptions o = baseline_options();
+  o.moment.drift_library.push_back(vehs::Term::parse("log(y)"));  // y < 0 on half the samples
+  try {
+    (void)vehs::fit(data, o);
+    FAIL("no error");
+  } catch (const vehs::Error& e) {
+    const std::string what = e.what();
+    INFO(what);
+    CHECK(what.find("rig.csv: line ") != std::string::npos);
+    CHECK(what.find("the drift term 'log(y)' is not finite") != std::string::npos);
+  }
+}
