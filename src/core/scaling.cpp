@@ -25,11 +25,14 @@ double power_of_ten_near(double v) {
 /// values are g/size, O(1) like the other terms' (a hardening spring "-x^3" in metres is 1e-9:
 /// its standard error came out "not positive" from the score covariance's round-off).
 double user_term_size(const Term& t, const Scales& s) {
-  const auto g = UserFunction::parse(t.fn->text());
+  // the physical expression g(X) = fn(X / scales) / value factor, whatever units t is in
+  const UserFunction& f = *t.fn;
+  const auto& k = f.scales();
   double size = 0.0;
-  for (int k = 0; k < 8; ++k) {
-    const double v = std::abs((*g)((k & 1 ? -1.0 : 1.0) * s.length, (k & 2 ? -1.0 : 1.0) * s.length / s.time,
-                                   (k & 4 ? -1.0 : 1.0) * s.input));
+  for (int c = 0; c < 8; ++c) {
+    const double v = std::abs(f((c & 1 ? -1.0 : 1.0) * s.length / k[0], (c & 2 ? -1.0 : 1.0) * s.length / s.time / k[1],
+                                (c & 4 ? -1.0 : 1.0) * s.input / k[2]) /
+                              f.value_factor());
     if (std::isfinite(v)) size = std::max(size, v);
   }
   return power_of_ten_near(size);

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <string>
 #include <optional>
 #include <utility>
+#include <vector>
 
 #include "vehs/core/error.hpp"
 #include "vehs/likelihood/adequacy.hpp"
@@ -82,6 +85,35 @@ Refinement moment_fit_stands(const Model& model, const Dataset& data, const std:
   return r;
 }
 
+/// A user's expression must be finite wherever the data go: "log(y)" on a record that crosses
+/// y = 0 was refused as "ill-conditioned ... condition number infinite", which named no row.
+/// Checked at every sample's (x, central-difference y, u); the error names the term and the line.
+/// Once per vehs::fit (the tools' fits and diagnose's confirming refits), not in every identify
+/// call of a diagnosis's draws and suspects.
+void check_user_terms_finite(const Dataset& data, const identify::Options& o) {
+  std::vector<std::pair<Term, bool>> terms;  // (term, in the diffusion)
+  for (const Term& t : o.drift_library) terms.emplace_back(t, false);
+  for (const Term& t : o.diffusion_library) terms.emplace_back(t, true);
+  for (const UserEffect& u : o.user_effects)
+    for (const UserEffectParam& p : u.params) terms.emplace_back(p.term, p.diffusion);
+  for (const auto& [t, diffusion] : terms) {
+    if (!t.is_user()) continue;
+    for (const Record& r : data.records) {
+      const double* x = data.x_of(r);
+      const double* u = data.u_of(r);
+      for (std::size_t i = 1; i + 1 < r.size; ++i) {
+        const double y = (x[i + 1] - x[i - 1]) / (2.0 * r.dt), ui = u ? u[i] : 0.0;
+        if (std::isfinite(t.value(x[i], y, ui))) continue;
+        throw Error(r.source + ": line " + std::to_string(r.first_line + i) + ": the " +
+                    (diffusion ? "diffusion" : "drift") + " term '" + t.name() +
+                    "' is not finite at x = " + std::to_string(x[i]) + ", y = " + std::to_string(y) +
+                    (u ? ", u = " + std::to_string(ui) : std::string()) +
+                    " (y by central differences): an expression must be finite wherever the data go");
+      }
+    }
+  }
+}
+
 /// identify's moment fit under the options the data decided (libraries, folds).
 identify::Options moment_options(const Dataset& data, const FitOptions& options, RecordedInput& input) {
   identify::Options o = options.moment;
@@ -136,6 +168,7 @@ FitSummary fit(const Dataset& given, const FitOptions& options) {
   FitSummary s;
   if (checked) s.dropped = std::move(checked->dropped);
   const identify::Options o = moment_options(data, options, s.input);
+  check_user_terms_finite(data, o);
   s.result = identify::identify(data, o);
   refine(s, data, options, o);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

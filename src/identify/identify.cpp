@@ -143,29 +143,6 @@ Options with_user_terms(const Options& options) {
   return o;
 }
 
-/// A user's expression must be finite wherever the data go: "log(y)" on a record that crosses
-/// y = 0 was refused as "ill-conditioned ... condition number infinite", which named no row.
-/// Checked at every sample's (x, central-difference y, u); the error names the term and the line.
-void check_user_terms_finite(const Dataset& data, const Options& o) {
-  for (const auto* library : {&o.drift_library, &o.diffusion_library})
-    for (const Term& t : *library) {
-      if (!t.is_user()) continue;
-      for (const Record& r : data.records) {
-        const double* x = data.x_of(r);
-        const double* u = data.u_of(r);
-        for (std::size_t i = 1; i + 1 < r.size; ++i) {
-          const double y = (x[i + 1] - x[i - 1]) / (2.0 * r.dt), ui = u ? u[i] : 0.0;
-          if (std::isfinite(t.value(x[i], y, ui))) continue;
-          throw Error(r.source + ": line " + std::to_string(r.first_line + i) + ": the " +
-                      (library == &o.drift_library ? "drift" : "diffusion") + " term '" + t.name() +
-                      "' is not finite at x = " + std::to_string(x[i]) + ", y = " + std::to_string(y) +
-                      (u ? ", u = " + std::to_string(ui) : std::string()) +
-                      " (y by central differences): an expression must be finite wherever the data go");
-        }
-      }
-    }
-}
-
 // White sensor noise adds its variance to x's: an estimate above var(x) is not a noise level but
 // a sign of data the model of the sampling does not describe (glitches, a wrong column).
 void check_sensor_noise(const Result& r, const Dataset& data) {
@@ -191,7 +168,6 @@ Result dispatch(const Dataset& data, const Options& options) {
 Result identify(const Dataset& data, const Options& requested) {
   if (auto why = requested.invalid_reason(); !why.empty()) throw Error("identify: " + why);
   const Options options = with_user_terms(requested);
-  check_user_terms_finite(data, options);
   if (options.known_force)
     require(options.known_force->size() == data.x.size(), "identify: known_force must have one value per sample");
   const Scales s = natural_scales(data);
