@@ -3,11 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <string>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include "vehs/core/detail/format.hpp"
 #include "vehs/core/error.hpp"
 #include "vehs/likelihood/adequacy.hpp"
 #include "vehs/likelihood/filter_diverged.hpp"
@@ -96,8 +97,12 @@ void check_user_terms_finite(const Dataset& data, const identify::Options& o) {
   for (const Term& t : o.diffusion_library) terms.emplace_back(t, true);
   for (const UserEffect& u : o.user_effects)
     for (const UserEffectParam& p : u.params) terms.emplace_back(p.term, p.diffusion);
-  for (const auto& [t, diffusion] : terms) {
-    if (!t.is_user()) continue;
+  using detail::format_number;
+  for (std::size_t j = 0; j < terms.size(); ++j) {
+    const auto& [t, diffusion] = terms[j];
+    // (a user effect's term may also stand in a library: one pass over the data per term)
+    const auto first = std::find_if(terms.begin(), terms.end(), [&](const auto& e) { return e.first == t; });
+    if (!t.is_user() || first != terms.begin() + std::ptrdiff_t(j)) continue;
     for (const Record& r : data.records) {
       const double* x = data.x_of(r);
       const double* u = data.u_of(r);
@@ -106,8 +111,8 @@ void check_user_terms_finite(const Dataset& data, const identify::Options& o) {
         if (std::isfinite(t.value(x[i], y, ui))) continue;
         throw Error(r.source + ": line " + std::to_string(r.first_line + i) + ": the " +
                     (diffusion ? "diffusion" : "drift") + " term '" + t.name() +
-                    "' is not finite at x = " + std::to_string(x[i]) + ", y = " + std::to_string(y) +
-                    (u ? ", u = " + std::to_string(ui) : std::string()) +
+                    "' is not finite at x = " + format_number(x[i], 6) + ", y = " + format_number(y, 6) +
+                    (u ? ", u = " + format_number(ui, 6) : std::string()) +
                     " (y by central differences): an expression must be finite wherever the data go");
       }
     }
