@@ -61,7 +61,9 @@ TEST_CASE("vehs::fit reports every phase of a driven fit through to its end", "[
 TEST_CASE("identify-vehs prints progress lines through to the end when stderr is not a terminal",
           "[identify][app][progress]") {
   const fs::path dir = vehs_tool_test::work_dir("test_progress_cli");
-  vehs::write_measurements((dir / "driven.csv").string(), driven(12000, 11), vehs::WriteColumns{false, true, 17});
+  // long enough that the likelihood phase outlasts the 0.5 s below which a finished phase prints
+  // no line, on a machine several times faster than a loaded laptop core
+  vehs::write_measurements((dir / "driven.csv").string(), driven(96000, 11), vehs::WriteColumns{false, true, 17});
   const fs::path cfg = dir / "identify.json";
   std::ofstream(cfg) << "{\"data\": \"" << (dir / "driven.csv").string() << "\", \"output\": \""
                      << (dir / "model.json").string() << "\"}";
