@@ -15,7 +15,10 @@
 // curvature term 3·m·P_xx of x³. The cost is that of an EKF.
 // The time update runs RK4 substeps of these equations over each sampling interval, so it is
 // right at any ω·Δt (no expansion in Δt); the recorded drive is held (zero-order hold, like a
-// DAC) or interpolated between samples (linear, cubic, band-limited).
+// DAC) or interpolated between samples (linear, cubic, band-limited). An interval on which no
+// RK4 count keeps the covariance valid (Coulomb friction's expected slope μ·2φ(0)/√P_yy when the
+// velocity is nearly known: nearly deterministic, quantised closed-loop motion) is integrated by
+// backward Euler steps, which stay valid at any stiffness (detail/implicit_step.hpp).
 //
 // Where the Gaussian approximation is good and where it is not (measured against a particle
 // filter of the same model: `bench/likelihood.sh gaussian`, bench/results/likelihood_gaussian.txt;

@@ -9,14 +9,17 @@
 // none y as above, v ~ N(0, v_prior_var) and η from its own stationary law N(0, intensity/2τ).
 // Then for k = 1 … n−1: time update over [t_{k−1}, t_k] by RK4 substeps of the moment equations
 // (the drive held or interpolated over [t_{k−1}, t_k], input_path.hpp; an interval whose steps
-// leave the domain is redone with finer substeps), measurement update with
+// leave the domain is redone with finer substeps, and where every count fails by backward Euler
+// steps, implicit_step.hpp), measurement update with
 // x_k = x(t_k) + ε_k: innovation e_k = x_k − m_x, S_k = P_xx + σ_ε², log-likelihood
 // −½(log 2πS_k + e_k²/S_k), Kalman gain P_{·x}/S_k.
 #include <cmath>
 #include <algorithm>
 #include <cstddef>
+#include <optional>
 
 #include "vehs/likelihood/detail/hidden_prior.hpp"
+#include "vehs/likelihood/detail/implicit_step.hpp"
 #include "vehs/likelihood/detail/moment_system.hpp"
 #include "vehs/likelihood/ode.hpp"
 
@@ -57,18 +60,48 @@ inline constexpr double kLog2Pi = 1.8378770664093454836;
 /// Finer substeps tried, as multiples of the settings' count, on an interval whose RK4 steps
 /// left the domain: a stiff spot the automatic count does not see (Coulomb friction's slope
 /// μ·2φ(0)/√P_yy when the velocity is nearly known, an impact stop's wall). Only that interval
-/// pays; an interval that fails even at the finest is a divergence.
+/// pays; an interval that fails even at the finest is integrated by backward Euler
+/// (kImplicitRefinement times the settings' count of steps).
 inline constexpr int kSubstepRefinements[] = {4, 16, 64};
+inline constexpr int kImplicitRefinement = 4;
+
+/// The intervals of an n-sample block that may take the backward-Euler fallback. A stiff spot
+/// (friction as the axis sticks, a stop's wall) needs it on a few intervals; a model that needs it
+/// along the record (a start whose moment equations blow up) is refused as diverged, at a bounded
+/// cost, before its implicit steps cost hundreds of explicit ones on every interval.
+inline std::size_t implicit_budget(std::size_t n) { return 8 + n / 32; }
+
+/// Whether a packed state's covariance is one the measurement update keeps valid, with
+/// measurement variance r: P_yy > 0, the other variances >= 0 and P_0j² < P_jj·(P_00 + r) for
+/// every j (the updated variance P_jj − P_0j²/(P_00 + r) stays >= 0). RK4 steps beyond their
+/// stability bound can end with |corr(x, y)| > 1 and positive variances; the update would then
+/// turn P_yy negative.
+template <class T, int D>
+bool valid_covariance(const PackedState<T, D>& s, double r) {
+  using Pk = Packing<D>;
+  if (!(value_of(s[Pk::p(1, 1)]) > 0.0)) return false;
+  double d[D];
+  for (int i = 0; i < D; ++i) {
+    d[i] = value_of(s[Pk::p(i, i)]);
+    if (!(d[i] >= 0.0) || !std::isfinite(d[i])) return false;
+  }
+  for (int j = 1; j < D; ++j) {
+    const double c = value_of(s[Pk::p(0, j)]);
+    if (!(c * c <= d[j] * (d[0] + r) * (1.0 - 1e-12))) return false;
+  }
+  return true;
+}
 
 /// One sampling interval's time update: RK4 with `substeps`, retried with finer substeps from
-/// the same state when a step leaves the model's domain. False when every try failed.
-template <class Sys, class State>
-bool propagate_interval(const Sys& sys, double t0, double dt, int substeps, State& s) {
-  const State start = s;
-  if (rk4_propagate(sys, t0, dt, substeps, s)) return true;
+/// the same state when a step leaves the model's domain or the covariance it ends with is not
+/// valid. False when every try failed.
+template <class T, int D, class Sys>
+bool propagate_interval(const Sys& sys, double t0, double dt, int substeps, double r, PackedState<T, D>& s) {
+  const PackedState<T, D> start = s;
+  if (rk4_propagate(sys, t0, dt, substeps, s) && valid_covariance<T, D>(s, r)) return true;
   for (const int finer : kSubstepRefinements) {
     s = start;
-    if (rk4_propagate(sys, t0, dt, substeps * finer, s)) return true;
+    if (rk4_propagate(sys, t0, dt, substeps * finer, s) && valid_covariance<T, D>(s, r)) return true;
   }
   return false;
 }
@@ -100,14 +133,28 @@ T filter_block(const Structure& st, const Coefficients<T>& c, const BlockData& b
     }
   }
   T total{};
+  std::optional<ImplicitPropagator<T, D>> implicit;  // built at the first stiff interval
+  std::size_t implicit_intervals = 0;
   for (std::size_t k = 1; k < b.n; ++k) {
     const double t_prev = b.t0 + double(k - 1) * b.dt;
-    sys.set_drive(t_prev, b.dt,
-                  b.record_u ? input_cubic(b.record_u, b.record_n, b.first + k - 1, fs.input)
-                             : InputCubic{});
-    if (!propagate_interval(sys, t_prev, b.dt, fs.substeps, s)) {
-      fail = {true, k, "the moment equations left the model's domain (a22 < 0 or a variance <= 0)"};
-      return T{};
+    const InputCubic u =
+        b.record_u ? input_cubic(b.record_u, b.record_n, b.first + k - 1, fs.input) : InputCubic{};
+    sys.set_drive(t_prev, b.dt, u);
+    const State start = s;
+    const double r = value_of(c.measurement_var);
+    if (!propagate_interval<T, D>(sys, t_prev, b.dt, fs.substeps, r, s)) {
+      s = start;
+      if (++implicit_intervals > implicit_budget(b.n)) {
+        fail = {true, k, "the moment equations needed implicit steps on more intervals than the filter allows "
+                         "(a model stiff or explosive along most of the record)"};
+        return T{};
+      }
+      if (!implicit) implicit.emplace(st, c);
+      if (!implicit->propagate(sys, t_prev, b.dt, kImplicitRefinement * fs.substeps, u, s) ||
+          !valid_covariance<T, D>(s, r)) {
+        fail = {true, k, "the moment equations left the model's domain (a22 < 0 or a variance <= 0)"};
+        return T{};
+      }
     }
     const T e = b.x[k] - s[0];
     const T S = s[Pk::p(0, 0)] + c.measurement_var;
