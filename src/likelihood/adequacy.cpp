@@ -125,6 +125,10 @@ SamplingAdequacy assess_sampling(const Model& fit, const Dataset& data) {
     a.reason = w + " with an input that changes fast (its own omega*dt = rms(du)/sd(u) = " + g(a.input_omega_dt) +
                "): holding u over an interval delays it by dt/2, a phase error of " + g(a.input_omega_dt / 2) +
                " rad, above the best relative standard error " + g(a.best_relative_se);
+  } else if (!std::isfinite(a.best_relative_se)) {
+    a.vouched = false;
+    a.reason = w + ": the moment fit resolved no drift coefficient (each is zero or has no standard error), so no "
+                   "standard error bounds the expansions' bias; the likelihood refits from every start";
   } else if (const std::string why = moment_fit_doubt(fit, data, a.best_relative_se, g); !why.empty()) {
     a.vouched = false;
     a.reason = w + why;

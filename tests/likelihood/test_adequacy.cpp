@@ -150,3 +150,17 @@ TEST_CASE("auto: an input that changes fast sends the fit to the likelihood when
   CHECK(likelihood::assess_sampling(m, d).vouched);
   CHECK(likelihood::input_omega_dt(Dataset{}) == 0.0);
 }
+
+TEST_CASE("auto: a moment fit that resolved no drift coefficient is not vouched for", "[likelihood][adequacy]") {
+  // (a quantised closed-loop record gave beta = mu = 0 and dropped the input: nothing bounds the
+  // expansions' bias, so the likelihood refits from every start)
+  Model m = fit_with(SamplingVerdict::ContinuousTime, 1);
+  CHECK(likelihood::assess_sampling(m, slow_cosine(0.001)).vouched);
+  for (auto& tc : m.drift) tc.coef = 0.0;
+  const likelihood::SamplingAdequacy zero = likelihood::assess_sampling(m, slow_cosine(0.001));
+  INFO(zero.reason);
+  CHECK_FALSE(zero.vouched);
+  CHECK(zero.reason.find("resolved no drift coefficient") != std::string::npos);
+  m.drift.clear();
+  CHECK_FALSE(likelihood::assess_sampling(m, slow_cosine(0.001)).vouched);
+}

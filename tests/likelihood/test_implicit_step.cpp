@@ -191,3 +191,19 @@ TEST_CASE("the filter holds on nearly deterministic motion with Coulomb friction
   // the innovations are of the sensor's size: the filter tracks the motion
   CHECK(v.log_likelihood / double(v.observations) > 10.0);
 }
+
+TEST_CASE("a model stiff on every interval is refused as diverged after a bounded share of them",
+          "[likelihood][implicit]") {
+  // damping 1e5 against four RK4 substeps per unit interval: every interval needs the implicit
+  // fallback, which the filter allows on 8 + n/32 of a block's n intervals (implicit_budget): it
+  // stops there instead of paying implicit steps along the whole record
+  const Dataset d = simulate(Linear{1.0, 1.0, 2.0}.as_model(), 1.0, 1, 640.0, 5);
+  const Model stiff = Linear{1.0, 1e5, 2.0}.as_model();
+  likelihood::FilterOptions f;
+  f.substeps = 4;
+  const std::size_t budget = lik::implicit_budget(d.x.size());
+  CHECK(budget == 8 + 640 / 32);
+  CHECK_THROWS_WITH(likelihood::log_likelihood({stiff, 0.0, {}}, d, f),
+                    Catch::Contains("implicit steps on more intervals than the filter allows") &&
+                        Catch::Contains("at sample " + std::to_string(budget + 1) + " "));
+}

@@ -28,6 +28,9 @@
 //    rate matters: its controller's force changes by 11 % of its spread per sample while x
 //    moves slowly (ω̂Δt 0.006), and the moment fit's gain of u was 27 SE off and β 4.7 SE low
 //    (bench/positioning_rig.py, σ_F 2 N/√Hz); the likelihood's within 1 SE.
+//  * nor when the moment fit resolved no drift coefficient (each zero or without a standard
+//    error: no SE bounds anything; a quantised closed-loop record, bench/positioning_rig.py
+//    seed 4 at σ_F 0.05, gave β = μ = 0 and dropped the input);
 //  * nor when ω̂Δt is small but the moment fit has other known biases:
 //    - the sampling diagnosis found white sensor noise at the recorded rate (verdict "noisy" at
 //      stride 1): the noisy estimator's SEs are too small (1 % noise on a Duffing in mm: |z| up

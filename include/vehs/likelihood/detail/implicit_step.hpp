@@ -11,6 +11,7 @@
 // count. Backward Euler is L-stable and, for the covariance equation dP/dt = A P + P Aᵀ + Q, its
 // step (I − h·L_A)⁻¹ is the resolvent of a positive semigroup: covariances stay valid. It is
 // first order, so the filter uses it only on an interval whose RK4 steps fail at every count.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <type_traits>
@@ -81,13 +82,24 @@ class ImplicitPropagator {
   }
 
   /// The size against which component j of a state is measured: for a mean √P_jj + |m_j|, for
-  /// a covariance √(P_ii·P_jj) + |P_ij|.
+  /// a covariance √(P_ii·P_jj) + |P_ij|; at least 1e-10 of the largest of its kind (a variance
+  /// that is exactly zero, x's at the start of a record without sensor noise, has no size of its
+  /// own).
   static Vec scales(const Vec& z) {
     Vec w;
-    for (int i = 0; i < D; ++i) w[i] = std::sqrt(std::abs(z[Pk::p(i, i)])) + std::abs(z[i]);
+    double mean_max = 0.0, cov_max = 0.0;
+    for (int i = 0; i < D; ++i) {
+      w[i] = std::sqrt(std::abs(z[Pk::p(i, i)])) + std::abs(z[i]);
+      mean_max = std::max(mean_max, w[i]);
+    }
     for (int i = 0; i < D; ++i)
-      for (int j = i; j < D; ++j)
-        w[Pk::p(i, j)] = std::sqrt(std::abs(z[Pk::p(i, i)] * z[Pk::p(j, j)])) + std::abs(z[Pk::p(i, j)]);
+      for (int j = i; j < D; ++j) {
+        const int k = Pk::p(i, j);
+        w[k] = std::sqrt(std::abs(z[Pk::p(i, i)] * z[Pk::p(j, j)])) + std::abs(z[k]);
+        cov_max = std::max(cov_max, w[k]);
+      }
+    for (int i = 0; i < D; ++i) w[i] = std::max(w[i], 1e-10 * mean_max);
+    for (int k = D; k < N; ++k) w[k] = std::max(w[k], 1e-10 * cov_max);
     return w;
   }
   static double merit(const Vec& g, const Vec& w) {
