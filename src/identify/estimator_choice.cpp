@@ -52,6 +52,8 @@ std::string noise_share_text(double share) {
   return "white sensor noise makes up about " + fmt(100 * share) + " % of the variance of the ULI acceleration";
 }
 
+std::string grid_step_text(double q) { return std::string(kGridStepLead) + fmt(q); }
+
 EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested, double omega_dt, double rounding,
                                    double grid_step, double rows) {
   EstimatorDecision d;
@@ -68,8 +70,8 @@ EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested, doubl
   } else if (rule.continuous && adc_noise_matters(rounding, rows)) {
     d.estimator = Estimator::Noisy;
     d.reason = "ULI residuals have lag-" + std::string(diag.k > 1 ? "k" : "1") + " autocorrelation " + fmt(diag.rho_k) + at +
-               " (about +1/4: a sensor sampling a continuous-time process); the values lie on a grid of step " +
-               fmt(grid_step) + " whose rounding makes " + fmt(100 * rounding) +
+               " (about +1/4: a sensor sampling a continuous-time process); the values lie on " +
+               grid_step_text(grid_step) + " whose rounding makes " + fmt(100 * rounding) +
                " % of the ULI acceleration's variance: an ADC's own noise beside it (up to " + fmt(kAdcNoiseOverRounding) +
                "x the rounding's variance) would bias the ULI diffusion beyond its standard error on " + fmt(rows) +
                " rows, so noisy (its diffusion target is free of white noise) used";
@@ -85,7 +87,7 @@ EstimatorDecision choose_estimator(const Pilot& diag, Estimator requested, doubl
     // to −44.6, damping at −5 to −7 and a spurious x²·y)
     d.estimator = Estimator::Noisy;
     d.reason = "ULI residuals have lag-" + std::string(diag.k > 1 ? "k" : "1") + " autocorrelation " + fmt(diag.rho_k) +
-               at + ", but the values lie on a grid of step " + fmt(grid_step) + " whose rounding makes " +
+               at + ", but the values lie on " + grid_step_text(grid_step) + " whose rounding makes " +
                fmt(100 * rounding) +
                " % of the ULI acceleration's variance (a sensor's rounding, white noise on a continuous process, "
                "not an explicit scheme): noisy used";

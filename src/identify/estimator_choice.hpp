@@ -3,6 +3,7 @@
 // (the lags of the ULI residuals, a grid's rounding) before the fit, and from the fit's own
 // residuals over all rows after a ULI fit (white sensor noise too small for the pilot to see).
 #include <string>
+#include <string_view>
 
 #include "pilot.hpp"
 #include "vehs/core/quantisation.hpp"
@@ -30,6 +31,11 @@ inline constexpr double kSaturatedNoiseShare = 0.95;
 /// The noisy verdict's wording: the share "about 12 %" when resolved, else that the lags look
 /// white without a share.
 std::string noise_share_text(double share);
+
+/// "a grid of step q": the phrase the estimator's reason names a quantisation step by (identify
+/// rewrites q in the data's units after a fit in internal units).
+inline constexpr std::string_view kGridStepLead = "a grid of step ";
+std::string grid_step_text(double q);
 
 /// The estimator for the pilot's diagnosis (`requested` unless it is auto): noisy, uli or forward,
 /// with the figures that decided in the reason (estimator_choice.cpp gives the rules).

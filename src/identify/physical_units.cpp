@@ -1,7 +1,10 @@
 #include "physical_units.hpp"
 
 #include <cmath>
+#include <cstdlib>
+#include <string>
 
+#include "estimator_choice.hpp"
 #include "vehs/core/error.hpp"
 
 namespace vehs::identify::detail {
@@ -64,6 +67,17 @@ Options options_in_internal_units(const Options& options, const Scales& s, std::
 }
 
 Result result_in_physical_units(Result internal, const Scales& s) {
+  // the estimator's reason names the grid step the values lie on: in the data's length unit
+  std::string& why = internal.report.estimator.reason;
+  const std::string lead(kGridStepLead);
+  for (std::size_t at = why.find(lead); at != std::string::npos; at = why.find(lead, at + lead.size())) {
+    const char* number = why.c_str() + at + lead.size();
+    char* end = nullptr;
+    const double q = std::strtod(number, &end);
+    if (end == number) continue;
+    const std::string to = grid_step_text(q * s.length);
+    why.replace(at, lead.size() + static_cast<std::size_t>(end - number), to);
+  }
   internal.model = to_physical(internal.model, s);
   scale_report(internal.report, s);
   return internal;
