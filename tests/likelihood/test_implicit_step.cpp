@@ -120,7 +120,9 @@ TEST_CASE("backward Euler keeps a valid covariance where no RK4 count holds", "[
   lik::MomentSystem<double, 2> sys(st, c);
   sys.set_drive(0.0, 1.0, {});
   State rk = start_state();
-  CHECK_FALSE(lik::propagate_interval<double, 2>(sys, 0.0, 1.0, 4, 0.0, rk));
+  long long work = 0;
+  CHECK_FALSE(lik::propagate_interval<double, 2>(sys, 0.0, 1.0, 4, 0.0, rk, work));
+  CHECK(work == 4 * (1 + 4 + 16 + 64));
   State s = start_state();
   REQUIRE(implicit(lin, 1.0, 16, s));
   CHECK(lik::valid_covariance<double, 2>(s, 0.0));
@@ -206,4 +208,29 @@ TEST_CASE("a model stiff on every interval is refused as diverged after a bounde
   CHECK_THROWS_WITH(likelihood::log_likelihood({stiff, 0.0, {}}, d, f),
                     Catch::Contains("implicit steps on more intervals than the filter allows") &&
                         Catch::Contains("at sample " + std::to_string(budget + 1) + " "));
+}
+
+TEST_CASE("a model that needs finer RK4 steps on every interval is refused at the cost bound",
+          "[likelihood][implicit]") {
+  // damping 100 against four RK4 substeps per unit interval: the covariance's fastest rate is
+  // 2·beta = 200, beyond RK4's real stability bound 2.79 at 4, 16 and 64 substeps (h·200 = 50,
+  // 12.5, 3.1) and within it at 256 (0.78): 340 substeps spent where 4 were planned, on every
+  // interval. The filter stops once a block has spent 10 × its planned substeps: after interval
+  // k with 340·k > 10·640·4, k = 76
+  const Dataset d = simulate(Linear{1.0, 1.0, 2.0}.as_model(), 1.0, 1, 640.0, 5);
+  const Model stiff = Linear{1.0, 100.0, 2.0}.as_model();
+  likelihood::FilterOptions f;
+  f.substeps = 4;
+  try {
+    likelihood::log_likelihood({stiff, 0.0, {}}, d, f);
+    FAIL("the filter ran through");
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    INFO(what);
+    CHECK(what.find("cost bound") != std::string::npos);
+    CHECK(what.find("at sample 76 ") != std::string::npos);
+  }
+  // with the substeps it needs, the same model is filtered through
+  f.substeps = 256;
+  CHECK(std::isfinite(likelihood::log_likelihood({stiff, 0.0, {}}, d, f).log_likelihood));
 }

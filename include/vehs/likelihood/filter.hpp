@@ -18,7 +18,9 @@
 // DAC) or interpolated between samples (linear, cubic, band-limited). An interval on which no
 // RK4 count keeps the covariance valid (Coulomb friction's expected slope μ·2φ(0)/√P_yy when the
 // velocity is nearly known: nearly deterministic, quantised closed-loop motion) is integrated by
-// backward Euler steps, which stay valid at any stiffness (detail/implicit_step.hpp).
+// backward Euler steps, which stay valid at any stiffness (detail/implicit_step.hpp). The cost
+// is bounded: a block may take backward Euler on 8 + n/32 of its n intervals and spend 10 times
+// its planned RK4 substeps on retries; a model that needs more is refused as diverged.
 //
 // Where the Gaussian approximation is good and where it is not (measured against a particle
 // filter of the same model: `bench/likelihood.sh gaussian`, bench/results/likelihood_gaussian.txt;
