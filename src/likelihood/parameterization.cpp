@@ -25,6 +25,7 @@ Structure Structure::of(const Model& m, const std::string& where) {
     note_powers(tc.term, "drift");
     st.drift.push_back(tc.term);
     st.drive = st.drive || tc.term.depends_on_u();
+    st.friction = st.friction || tc.term.kind == TermKind::SignY;
   }
   for (const auto& tc : m.diffusion) {
     if (tc.coef == 0.0) continue;

@@ -15,10 +15,11 @@
 // curvature term 3·m·P_xx of x³. The cost is that of an EKF.
 // The time update runs RK4 substeps of these equations over each sampling interval, so it is
 // right at any ω·Δt (no expansion in Δt); the recorded drive is held (zero-order hold, like a
-// DAC) or interpolated between samples (linear, cubic, band-limited). An interval on which no
-// RK4 count keeps the covariance valid (Coulomb friction's expected slope μ·2φ(0)/√P_yy when the
-// velocity is nearly known: nearly deterministic, quantised closed-loop motion) is integrated by
-// backward Euler steps, which stay valid at any stiffness (detail/implicit_step.hpp). The cost
+// DAC) or interpolated between samples (linear, cubic, band-limited). In a model with Coulomb
+// friction, an interval on which no RK4 count keeps the covariance valid (its expected slope
+// μ·2φ(0)/√P_yy when the velocity is nearly known: nearly deterministic, quantised closed-loop
+// motion) is integrated by backward Euler steps, which stay valid at any stiffness
+// (detail/implicit_step.hpp); models without friction keep the plain RK4 retries. The cost
 // is bounded: a block may take backward Euler on 8 + n/32 of its n intervals and spend 10 times
 // its planned RK4 substeps on retries; a model that needs more is refused as diverged.
 //

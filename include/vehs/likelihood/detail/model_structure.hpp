@@ -21,6 +21,10 @@ struct Structure {
   bool needs_sd = false;        ///< a term or effect needs the standard deviations (sign, |y|, stops)
   bool impact = false, harmonic = false, electro = false, colored = false;
   bool drive = false;           ///< a `u` term is present
+  /// A drift term sign(y) (Coulomb friction): its expected slope μ·2φ(0)/√P_yy grows without
+  /// bound as the velocity becomes known, so the filter checks each interval's covariance and
+  /// has a backward-Euler fallback (block_filter.hpp); other models keep the plain RK4 retries.
+  bool friction = false;
   int dim() const { return electro || colored ? 4 : 2; }
 
   /// The structure of a model's terms and dynamic effects; throws vehs::Error (prefixed with
