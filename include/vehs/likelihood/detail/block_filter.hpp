@@ -9,8 +9,9 @@
 // none y as above, v ~ N(0, v_prior_var) and η from its own stationary law N(0, intensity/2τ).
 // Then for k = 1 … n−1: time update over [t_{k−1}, t_k] by RK4 substeps of the moment equations
 // (the drive held or interpolated over [t_{k−1}, t_k], input_path.hpp; an interval whose steps
-// leave the domain is redone with finer substeps, and where every count fails by backward Euler
-// steps, implicit_step.hpp), measurement update with
+// leave the domain is redone with finer substeps; in a model with friction also one whose
+// covariance the update could not keep valid, and where every count fails it is integrated by
+// backward Euler steps, implicit_step.hpp), measurement update with
 // x_k = x(t_k) + ε_k: innovation e_k = x_k − m_x, S_k = P_xx + σ_ε², log-likelihood
 // −½(log 2πS_k + e_k²/S_k), Kalman gain P_{·x}/S_k.
 #include <cmath>
@@ -64,6 +65,9 @@ inline constexpr double kLog2Pi = 1.8378770664093454836;
 /// (kImplicitRefinement times the settings' count of steps).
 inline constexpr int kSubstepRefinements[] = {4, 16, 64};
 inline constexpr int kImplicitRefinement = 4;
+
+/// Why a block fails when its moment equations leave the model's domain.
+inline constexpr const char* kLeftDomain = "the moment equations left the model's domain (a22 < 0 or a variance <= 0)";
 
 /// The intervals of an n-sample block that may take the backward-Euler fallback. A stiff spot
 /// (friction as the axis sticks, a stop's wall) needs it on a few intervals; a model that needs it
@@ -158,7 +162,7 @@ T filter_block(const Structure& st, const Coefficients<T>& c, const BlockData& b
     const double r = value_of(c.measurement_var);
     const bool explicit_ok = propagate_interval<T, D>(sys, t_prev, b.dt, fs.substeps, r, s, work, st.friction);
     if (!explicit_ok && !st.friction) {
-      fail = {true, k, "the moment equations left the model's domain (a22 < 0 or a variance <= 0)"};
+      fail = {true, k, kLeftDomain};
       return T{};
     }
     if (st.friction && work > work_budget) {
@@ -177,7 +181,7 @@ T filter_block(const Structure& st, const Coefficients<T>& c, const BlockData& b
       if (!implicit) implicit.emplace(st, c);
       if (!implicit->propagate(sys, t_prev, b.dt, kImplicitRefinement * fs.substeps, u, s) ||
           !valid_covariance<T, D>(s, r)) {
-        fail = {true, k, "the moment equations left the model's domain (a22 < 0 or a variance <= 0)"};
+        fail = {true, k, kLeftDomain};
         return T{};
       }
     }
